@@ -1,0 +1,31 @@
+# The two commands of the README, plus a few helpers. All build through CMake presets.
+JOBS ?= $(shell nproc)
+BUILD := build/release
+LANCER := $(BUILD)/lancer
+
+.PHONY: render test build deps bench-micro test-sanitize clean
+
+deps:
+	@scripts/install-deps.sh
+
+build: deps
+	cmake --preset release >/dev/null
+	cmake --build $(BUILD) -j $(JOBS)
+
+render: build
+	@mkdir -p out
+	$(LANCER) render scenes/cornell-box.gltf -o out/cornell-box.exr -o out/cornell-box.png
+
+test: build
+	ctest --test-dir $(BUILD) -j $(JOBS) --output-on-failure
+
+bench-micro: build
+	$(BUILD)/bench/lancer_bench_micro
+
+test-sanitize: deps
+	cmake --preset sanitize >/dev/null
+	cmake --build build/sanitize -j $(JOBS)
+	ctest --test-dir build/sanitize -j $(JOBS) --output-on-failure
+
+clean:
+	rm -rf build out

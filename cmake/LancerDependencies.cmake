@@ -1,0 +1,24 @@
+# Every dependency is a Debian package with a CMake config (see scripts/install-deps.sh).
+find_package(glm REQUIRED)
+find_package(TBB REQUIRED)
+find_package(TinyGLTF REQUIRED)
+find_package(nlohmann_json REQUIRED)
+find_package(OpenEXR REQUIRED)
+find_package(tinyobjloader REQUIRED)
+find_package(CLI11 REQUIRED)
+
+# stb ships no CMake config: Debian's libstb.so holds the implementations.
+find_path(STB_INCLUDE_DIR stb_image.h PATH_SUFFIXES stb REQUIRED)
+find_library(STB_LIBRARY stb REQUIRED)
+add_library(lancer_stb INTERFACE)
+target_include_directories(lancer_stb SYSTEM INTERFACE ${STB_INCLUDE_DIR})
+target_link_libraries(lancer_stb INTERFACE ${STB_LIBRARY})
+
+if(LANCER_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+endif()
+if(LANCER_BUILD_BENCH)
+  find_package(benchmark REQUIRED)
+endif()
+# Embree is optional: a benchmark baseline and a second test oracle, never linked into lancer.
+find_package(embree 3 QUIET)

@@ -1,0 +1,16 @@
+# Warning and optimisation flags as INTERFACE targets, so each library opts in
+# explicitly and no ISA flag leaks into generic code (ISA flags go on single files).
+add_library(lancer_warnings INTERFACE)
+target_compile_options(lancer_warnings INTERFACE -Wall -Wextra -Wpedantic -Wshadow -Wno-missing-field-initializers)
+
+add_library(lancer_options INTERFACE)
+# The generic code targets the x86-64 baseline plus SSE4.2, the minimum Lancer runs on.
+if(CMAKE_SYSTEM_PROCESSOR MATCHES "x86_64|AMD64")
+  target_compile_options(lancer_options INTERFACE -msse4.2)
+endif()
+# Same arithmetic on every path: no silent fused multiply-adds in generic code.
+target_compile_options(lancer_options INTERFACE -ffp-contract=off)
+if(LANCER_SANITIZE)
+  target_compile_options(lancer_options INTERFACE -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all)
+  target_link_options(lancer_options INTERFACE -fsanitize=address,undefined)
+endif()

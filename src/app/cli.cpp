@@ -1,0 +1,97 @@
+#include "app/cli.h"
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "accel/accel_factory.h"
+#include "app/info_command.h"
+#include "app/render_command.h"
+
+namespace lancer {
+
+namespace {
+
+// "x,y,z" -> vec3, for --eye, --look-at and --up.
+void add_vec3_option(CLI::App& app, const std::string& name, std::optional<glm::vec3>& target,
+                     const std::string& help) {
+  app.add_option_function<std::vector<float>>(
+         name, [&target](const std::vector<float>& v) { target = glm::vec3(v[0], v[1], v[2]); }, help)
+      ->expected(3)
+      ->delimiter(',')
+      ->type_name("X,Y,Z");
+}
+
+void add_render_command(CLI::App& app, RenderOptions& opt) {
+  CLI::App* render = app.add_subcommand("render", "Render a scene to image files");
+  render->add_option("scene", opt.scene, "Scene file (.gltf, .glb or .obj)")->required();
+  render->add_option("-o,--output", opt.outputs, "Output image (.exr linear float, .png sRGB); repeatable")
+      ->default_str("out/render.exr and out/render.png");
+  RenderSettings& s = opt.settings;
+  render->add_option("--width", s.width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
+  render->add_option_function<int>(
+            "--height", [&opt](int h) { opt.settings.height = h; opt.height_given = true; },
+            "Image height in pixels (default: from the camera's aspect ratio, else the width)")
+      ->check(CLI::Range(1, 16384));
+  render->add_option("--spp", s.spp, "Jittered samples per pixel")->check(CLI::Range(1, 1 << 20))->capture_default_str();
+  render->add_option_function<std::string>(
+            "--integrator", [&s](const std::string& name) { s.integrator = *parse_integrator(name); },
+            "whitted, normals, depth or primid")
+      ->check(CLI::IsMember({"whitted", "normals", "depth", "primid"}))
+      ->default_str("whitted");
+  render->add_option("--max-depth", s.max_depth, "Reflection and refraction depth limit")
+      ->check(CLI::Range(0, 64))->capture_default_str();
+  render->add_option("--light-samples", s.light_samples, "Shadow rays toward area lights per shading point")
+      ->check(CLI::Range(1, 4096))->capture_default_str();
+  render->add_option("--threads", s.threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 4096))->capture_default_str();
+  render->add_option("--seed", s.seed, "Random seed; the image depends only on it, not on threads")->capture_default_str();
+  std::vector<std::string> accels;
+  for (auto n : accelerator_names()) accels.emplace_back(n);
+  render->add_option("--accel", opt.accel, "Accelerator")->check(CLI::IsMember(accels))->capture_default_str();
+  render->add_option("--camera", opt.camera, "Index of the scene camera to use")->check(CLI::NonNegativeNumber);
+  add_vec3_option(*render, "--eye", opt.eye, "Camera position (overrides the scene camera)");
+  add_vec3_option(*render, "--look-at", opt.look_at, "Point the camera looks at");
+  add_vec3_option(*render, "--up", opt.up, "Camera up direction (default 0,1,0)");
+  render->add_option("--fov", opt.fov_degrees, "Vertical field of view in degrees")->check(CLI::Range(0.01, 179.0));
+  render->add_flag("--no-progress{false}", opt.progress, "Do not report progress on stderr");
+}
+
+void add_info_command(CLI::App& app, InfoOptions& opt) {
+  CLI::App* info = app.add_subcommand("info", "Print what a scene holds and accelerator statistics");
+  info->add_option("scene", opt.scene, "Scene file (.gltf, .glb or .obj)")->required();
+  std::vector<std::string> accels;
+  for (auto n : accelerator_names()) accels.emplace_back(n);
+  info->add_option("--accel", opt.accel, "Accelerator to build and describe")->check(CLI::IsMember(accels))->capture_default_str();
+}
+
+}  // namespace
+
+int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
+  CLI::App app{"Lancer: a CPU ray tracer (lancer de rayons)", "lancer"};
+  app.require_subcommand(1);
+  RenderOptions render_opt;
+  InfoOptions info_opt;
+  add_render_command(app, render_opt);
+  add_info_command(app, info_opt);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp&) {
+    out << app.help();  // the selected subcommand's help when one was given
+    return 0;
+  } catch (const CLI::CallForAllHelp&) {
+    out << app.help("", CLI::AppFormatMode::All);
+    return 0;
+  } catch (const CLI::ParseError& e) {
+    err << "lancer: " << e.what() << "\n";
+    err << "Run 'lancer --help' or 'lancer render --help' for the options.\n";
+    return 2;
+  }
+
+  if (app.got_subcommand("render")) return run_render(render_opt, out, err);
+  return run_info(info_opt, out, err);
+}
+
+}  // namespace lancer

@@ -1,0 +1,46 @@
+#include "app/info_command.h"
+
+#include <chrono>
+#include <cstdio>
+#include <memory>
+#include <ostream>
+
+#include "accel/accel_factory.h"
+#include "scene/load_scene.h"
+
+namespace lancer {
+
+int run_info(const InfoOptions& opt, std::ostream& out, std::ostream& err) {
+  try {
+    const Scene scene = load_scene(opt.scene);
+    const Bounds3 b = scene.bounds();
+    std::size_t emissive = 0;
+    for (std::uint32_t id : scene.material_id) emissive += scene.materials[id].emissive() ? 1 : 0;
+
+    char line[256];
+    out << "scene:      " << scene.source << "\n";
+    out << "triangles:  " << scene.triangle_count() << " (" << emissive << " emissive)\n";
+    out << "dropped:    " << scene.stats.degenerate_dropped << " zero-area\n";
+    out << "materials:  " << scene.materials.size() << "\n";
+    out << "textures:   " << scene.textures.size() << " (" << scene.images.size() << " images)\n";
+    out << "cameras:    " << scene.cameras.size() << "\n";
+    out << "lights:     " << scene.lights.size() << " punctual\n";
+    std::snprintf(line, sizeof line, "bounds:     (%g, %g, %g) - (%g, %g, %g)\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x,
+                  b.hi.y, b.hi.z);
+    out << line;
+
+    const auto t0 = std::chrono::steady_clock::now();
+    const std::unique_ptr<Accelerator> accel = make_accelerator(opt.accel, scene.triangles);
+    const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    std::snprintf(line, sizeof line, "accel:      %s, built in %.1f ms, %zu bytes (%.1f bytes/triangle)\n",
+                  std::string(accel->name()).c_str(), ms, accel->memory_bytes(),
+                  static_cast<double>(accel->memory_bytes()) / static_cast<double>(scene.triangle_count()));
+    out << line;
+    return 0;
+  } catch (const std::exception& e) {
+    err << "lancer: error: " << e.what() << "\n";
+    return 1;
+  }
+}
+
+}  // namespace lancer

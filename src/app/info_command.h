@@ -1,0 +1,16 @@
+// `lancer info`: what a scene holds and what the accelerator built over it looks like.
+#pragma once
+
+#include <iosfwd>
+#include <string>
+
+namespace lancer {
+
+struct InfoOptions {
+  std::string scene;
+  std::string accel = "brute";
+};
+
+int run_info(const InfoOptions& options, std::ostream& out, std::ostream& err);
+
+}  // namespace lancer

@@ -1,0 +1,131 @@
+#include "app/render_command.h"
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <new>
+#include <ostream>
+
+#include "accel/accel_factory.h"
+#include "app/progress_reporter.h"
+#include "render/camera.h"
+#include "render/image_io.h"
+#include "render/renderer.h"
+#include "scene/load_scene.h"
+#include "scene/scene_error.h"
+
+namespace lancer {
+
+namespace {
+
+constexpr double kDegrees = 3.14159265358979323846 / 180.0;
+
+// Images larger than this are refused before any allocation (2^28 pixels = 3 GiB of RGB floats).
+constexpr long long kMaxPixels = 1LL << 28;
+
+PinholeCamera choose_camera(const RenderOptions& opt, const Scene& scene, RenderSettings& s) {
+  if (opt.eye || opt.look_at) {
+    if (!opt.eye || !opt.look_at) throw std::invalid_argument("--eye and --look-at must be given together");
+    const float fov = static_cast<float>(opt.fov_degrees.value_or(45.0f) * kDegrees);
+    return PinholeCamera::look_at(*opt.eye, *opt.look_at, opt.up.value_or(glm::vec3(0, 1, 0)), fov, s.width, s.height);
+  }
+  if (opt.camera && *opt.camera >= static_cast<int>(scene.cameras.size()))
+    throw std::invalid_argument("--camera " + std::to_string(*opt.camera) + ": the scene has " +
+                                std::to_string(scene.cameras.size()) + " camera(s)");
+  if (!scene.cameras.empty()) {
+    CameraDesc desc = scene.cameras[opt.camera.value_or(0)];
+    if (!opt.height_given && desc.aspect_ratio && *desc.aspect_ratio > 0.0f)
+      s.height = std::max(1, static_cast<int>(std::lround(s.width / *desc.aspect_ratio)));
+    if (opt.fov_degrees) desc.yfov = static_cast<float>(*opt.fov_degrees * kDegrees);
+    return PinholeCamera::from_desc(desc, s.width, s.height);
+  }
+  if (opt.camera) throw std::invalid_argument("--camera given but the scene has no cameras");
+  return PinholeCamera::framing(scene.bounds(), s.width, s.height);
+}
+
+void print_load_warnings(const Scene& scene, std::ostream& err) {
+  if (scene.stats.degenerate_dropped > 0)
+    err << "lancer: warning: " << scene.source << ": dropped " << scene.stats.degenerate_dropped
+        << " zero-area triangle(s)\n";
+  if (scene.stats.zero_normals_repaired > 0)
+    err << "lancer: warning: " << scene.source << ": " << scene.stats.zero_normals_repaired
+        << " zero-length normal(s); those triangles use their geometric normal\n";
+}
+
+bool has_light(const Scene& scene) {
+  if (!scene.lights.empty()) return true;
+  for (std::uint32_t id : scene.material_id)
+    if (scene.materials[id].emissive()) return true;
+  return false;
+}
+
+}  // namespace
+
+int run_render(const RenderOptions& options, std::ostream& out, std::ostream& err) {
+  try {
+    RenderOptions opt = options;
+    if (opt.outputs.empty()) opt.outputs = {"out/render.exr", "out/render.png"};
+    for (const auto& o : opt.outputs) {
+      std::string ext = std::filesystem::path(o).extension().string();
+      for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      if (ext != ".exr" && ext != ".png")
+        throw std::invalid_argument("output " + o + ": unknown image type '" + ext + "' (expected .exr or .png)");
+    }
+
+    const auto t_load = std::chrono::steady_clock::now();
+    const Scene scene = load_scene(opt.scene);
+    print_load_warnings(scene, err);
+    if (!has_light(scene) && opt.settings.integrator == IntegratorKind::Whitted)
+      err << "lancer: warning: " << scene.source << ": the scene has no lights; the image will be black\n";
+
+    RenderSettings& s = opt.settings;
+    const PinholeCamera camera = choose_camera(opt, scene, s);
+    if (static_cast<long long>(s.width) * s.height > kMaxPixels)
+      throw std::invalid_argument("image " + std::to_string(s.width) + "x" + std::to_string(s.height) +
+                                  " is too large (at most 2^28 pixels)");
+
+    const auto t_build = std::chrono::steady_clock::now();
+    const std::unique_ptr<Accelerator> accel = make_accelerator(opt.accel, scene.triangles);
+    const double build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_build).count();
+    const double load_s = std::chrono::duration<double>(t_build - t_load).count();
+
+    ProgressReporter progress(err, opt.progress && isatty(STDERR_FILENO));
+    RenderStats stats;
+    ImageRGB image = render_image(scene, *accel, camera, s, stats, [&](std::size_t done, std::size_t total) {
+      if (opt.progress) progress.update(done, total);
+    });
+    progress.finish();
+
+    if (const std::size_t bad = count_non_finite(image); bad > 0)
+      err << "lancer: warning: " << bad << " pixel(s) are not finite\n";
+    for (const auto& o : opt.outputs) {
+      const std::filesystem::path parent = std::filesystem::path(o).parent_path();
+      if (!parent.empty()) std::filesystem::create_directories(parent);
+      write_image(image, o);
+    }
+
+    char line[512];
+    const double mrays = stats.seconds > 0.0 ? static_cast<double>(stats.rays) / stats.seconds * 1e-6 : 0.0;
+    std::snprintf(line, sizeof line,
+                  "lancer: %s %dx%d, %d spp, %s, accel %s (%zu triangles): load %.2f s, build %.2f s, "
+                  "render %.2f s, %.2f Mrays, %.2f Mrays/s",
+                  scene.source.c_str(), s.width, s.height, s.spp, std::string(integrator_name(s.integrator)).c_str(),
+                  opt.accel.c_str(), scene.triangle_count(), load_s, build_s, stats.seconds,
+                  static_cast<double>(stats.rays) * 1e-6, mrays);
+    out << line << "\n";
+    for (const auto& o : opt.outputs) out << "wrote " << o << "\n";
+    return 0;
+  } catch (const std::bad_alloc&) {
+    err << "lancer: error: out of memory\n";
+  } catch (const std::exception& e) {
+    err << "lancer: error: " << e.what() << "\n";
+  }
+  return 1;
+}
+
+}  // namespace lancer

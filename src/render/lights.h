@@ -1,0 +1,66 @@
+// The lights a shading point is lit by: KHR_lights_punctual lights and emissive triangles.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/vec3.hpp>
+
+#include "scene/scene.h"
+
+namespace lancer {
+
+// What a punctual light delivers at a point: the unit direction towards the light, the
+// distance (infinite for directional lights) and the irradiance on a surface facing the
+// light, per colour channel (W/m^2 in the extension's photometric-as-radiometric units).
+struct PunctualIncidence {
+  glm::vec3 wi{0.0f};
+  float distance = 0.0f;
+  glm::vec3 irradiance{0.0f};
+};
+
+// KHR_lights_punctual: point lights give I/d^2, spot lights add the extension's smooth
+// angular falloff between the inner and outer cone, directional lights give I (lux).
+// A range > 0 applies the window the extension recommends, max(min(1 - (d/range)^4, 1), 0).
+PunctualIncidence illuminate(const PunctualLight& light, const glm::vec3& p);
+
+// One emissive triangle, emitting on its front side (the side cross(e1, e2) points to).
+struct EmissiveTriangle {
+  std::uint32_t prim = 0;
+  glm::vec3 a{0.0f}, e1{0.0f}, e2{0.0f};  // p = a + s e1 + t e2
+  glm::vec3 normal{0.0f};                 // unit, front side
+  float area = 0.0f;
+  glm::vec3 radiance{0.0f};
+};
+
+struct AreaLightSample {
+  glm::vec3 point{0.0f};
+  glm::vec3 normal{0.0f};  // the light's front side
+  glm::vec3 radiance{0.0f};
+  float pdf_area = 0.0f;   // per unit area, including the choice of the triangle
+};
+
+// All emissive triangles of a scene, chosen in proportion to their power
+// (area times luminance of the emitted radiance) and sampled uniformly in area.
+class AreaLights {
+ public:
+  explicit AreaLights(const Scene& scene);
+
+  bool empty() const { return lights_.empty(); }
+  std::size_t size() const { return lights_.size(); }
+  const EmissiveTriangle& light(std::size_t i) const { return lights_[i]; }
+  // Probability that sample() picks light i.
+  float pick_probability(std::size_t i) const;
+
+  // u_pick, u1, u2 in [0, 1). Must not be called when empty().
+  AreaLightSample sample(float u_pick, float u1, float u2) const;
+
+ private:
+  std::vector<EmissiveTriangle> lights_;
+  std::vector<double> cdf_;  // cdf_[i]: total power of lights 0..i, cdf_.back() == total
+};
+
+// Rec. 709 luminance of a linear RGB triple.
+inline float luminance709(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
+
+}  // namespace lancer

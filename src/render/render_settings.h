@@ -1,0 +1,33 @@
+// What a render is asked to do: image size, samples, integrator and the threads it may use.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string_view>
+
+namespace lancer {
+
+enum class IntegratorKind { Whitted, Normals, Depth, PrimId };
+
+std::string_view integrator_name(IntegratorKind kind);
+std::optional<IntegratorKind> parse_integrator(std::string_view name);
+
+struct RenderSettings {
+  int width = 512;
+  int height = 512;
+  int spp = 16;            // jittered samples per pixel
+  IntegratorKind integrator = IntegratorKind::Whitted;
+  int max_depth = 8;       // reflection/refraction recursion limit
+  int light_samples = 4;   // shadow rays per area light at each shading point
+  int threads = 0;         // 0: all hardware threads
+  std::uint64_t seed = 0;
+  int tile_size = 16;
+};
+
+// What a finished render reports in the summary line.
+struct RenderStats {
+  double seconds = 0.0;
+  std::uint64_t rays = 0;  // every ray traced: camera, shadow and secondary
+};
+
+}  // namespace lancer

@@ -1,0 +1,52 @@
+#include "render/surface.h"
+
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+namespace lancer {
+
+glm::vec3 base_color_at(const Scene& /*scene*/, const Material& m, std::uint32_t /*prim*/, float /*u*/,
+                        float /*v*/) {
+  // TODO(textures): multiply by base_color_texture sampled at the interpolated TEXCOORD.
+  return glm::vec3(m.base_color);
+}
+
+SurfacePoint make_surface_point(const Scene& scene, const Ray& ray, const Hit& hit) {
+  const TriangleSoA& tris = scene.triangles;
+  const std::uint32_t i = hit.prim;
+  const glm::vec3 a = tris.vertex(i, 0), b = tris.vertex(i, 1), c = tris.vertex(i, 2);
+  const float w = 1.0f - hit.u - hit.v;
+
+  SurfacePoint sp;
+  sp.prim = i;
+  sp.p = w * a + hit.u * b + hit.v * c;
+
+  // The scene builder drops zero-area triangles, so the cross product is non-zero; a
+  // triangle too small for float still gets a usable normal from the direction alone.
+  glm::vec3 ng = glm::cross(b - a, c - a);
+  const float len = glm::length(ng);
+  ng = len > 0.0f && std::isfinite(len) ? ng / len : -glm::normalize(ray.dir);
+
+  glm::vec3 ns = ng;
+  if (i < scene.attrib_flags.size() && (scene.attrib_flags[i] & kHasNormals)) {
+    const glm::vec3* n = &scene.normals[3 * static_cast<std::size_t>(i)];
+    const glm::vec3 interp = w * n[0] + hit.u * n[1] + hit.v * n[2];
+    const float ilen = glm::length(interp);
+    if (ilen > 1e-12f && std::isfinite(ilen)) ns = interp / ilen;
+  }
+
+  sp.front_face = glm::dot(ng, ray.dir) <= 0.0f;
+  if (!sp.front_face) {
+    ng = -ng;
+    ns = -ns;
+  }
+  sp.ng = ng;
+  sp.ns = ns;
+
+  sp.material = &scene.materials[scene.material_id[i]];
+  sp.base_color = base_color_at(scene, *sp.material, i, hit.u, hit.v);
+  return sp;
+}
+
+}  // namespace lancer

@@ -1,0 +1,35 @@
+// From a ray hit to the shading point: position, normals, material and base colour.
+#pragma once
+
+#include <cstdint>
+
+#include <glm/vec3.hpp>
+
+#include "accel/ray.h"
+#include "scene/scene.h"
+
+namespace lancer {
+
+struct SurfacePoint {
+  glm::vec3 p{0.0f};   // from the barycentrics of the hit
+  glm::vec3 ng{0.0f};  // unit geometric normal, flipped to face the incoming ray
+  glm::vec3 ns{0.0f};  // unit shading normal, flipped together with ng
+  // True when the ray hit the front side: the side cross(b - a, c - a) points to (CCW).
+  // Shading is two-sided; only emission depends on the side.
+  bool front_face = true;
+  std::uint32_t prim = kNoHit;
+  const Material* material = nullptr;
+  glm::vec3 base_color{1.0f};  // linear
+
+  // The normals as stored in the scene (front side), for the debug views.
+  glm::vec3 stored_shading_normal() const { return front_face ? ns : -ns; }
+};
+
+// `hit` must be valid and come from `ray` against `scene.triangles`.
+SurfacePoint make_surface_point(const Scene& scene, const Ray& ray, const Hit& hit);
+
+// Base colour of material `m` at barycentrics (u, v) of triangle `prim`, linear RGB.
+// The one place textures will be sampled; for now it is the material's factor.
+glm::vec3 base_color_at(const Scene& scene, const Material& m, std::uint32_t prim, float u, float v);
+
+}  // namespace lancer

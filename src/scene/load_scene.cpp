@@ -1,0 +1,33 @@
+#include "scene/load_scene.h"
+
+#include <algorithm>
+#include <cctype>
+#include <system_error>
+
+#include "scene/gltf_reader.h"
+#include "scene/obj_reader.h"
+#include "scene/scene_error.h"
+
+namespace lancer {
+
+Scene load_scene(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw SceneError(file, "no such file");
+  if (!std::filesystem::is_regular_file(path, ec)) throw SceneError(file, "not a regular file");
+
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  Scene scene;
+  if (ext == ".gltf" || ext == ".glb") {
+    scene = read_gltf(path);
+  } else if (ext == ".obj") {
+    scene = read_obj(path);
+  } else {
+    throw SceneError(file, "unknown scene format '" + ext + "' (expected .gltf, .glb or .obj)");
+  }
+  if (scene.triangle_count() == 0) throw SceneError(file, "the scene has no triangles");
+  return scene;
+}
+
+}  // namespace lancer

@@ -1,0 +1,132 @@
+// A loaded scene, flattened: world-space triangles in SoA form for the accelerators,
+// plus everything shading needs (per-corner attributes, materials, textures, cameras,
+// punctual lights). Readers (glTF, OBJ, procedural) fill it; they know no accelerator.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <glm/mat4x4.hpp>
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+#include "accel/triangle_soa.h"
+
+namespace lancer {
+
+enum class AlphaMode { Opaque, Mask, Blend };
+
+// A reference from a material to scene.textures, with its texcoord set and, for normal
+// and occlusion textures, the scale/strength.
+struct TextureRef {
+  int texture = -1;
+  int texcoord = 0;
+  float scale = 1.0f;
+  bool present() const { return texture >= 0; }
+};
+
+// The glTF 2.0 metallic-roughness material and the extensions Lancer reads.
+// Colour factors are linear; colour textures are sRGB-encoded.
+struct Material {
+  std::string name;
+  glm::vec4 base_color{1.0f};
+  TextureRef base_color_texture;
+  float metallic = 1.0f;
+  float roughness = 1.0f;
+  TextureRef metallic_roughness_texture;  // roughness in G, metallic in B
+  glm::vec3 emissive_factor{0.0f};
+  float emissive_strength = 1.0f;  // KHR_materials_emissive_strength
+  TextureRef emissive_texture;
+  TextureRef normal_texture;
+  TextureRef occlusion_texture;
+  AlphaMode alpha_mode = AlphaMode::Opaque;
+  float alpha_cutoff = 0.5f;
+  bool double_sided = false;
+  float ior = 1.5f;                 // KHR_materials_ior
+  float transmission = 0.0f;        // KHR_materials_transmission
+  float specular = 1.0f;            // KHR_materials_specular
+  glm::vec3 specular_color{1.0f};
+
+  // Emitted radiance (W / (sr m^2)): glTF's emissive factor times strength, nothing else.
+  glm::vec3 emission() const { return emissive_factor * emissive_strength; }
+  bool emissive() const { return emission() != glm::vec3(0.0f); }
+};
+
+// glTF sampler enums kept as numbers (10497 repeat, 33071 clamp, 33648 mirrored repeat).
+struct Texture {
+  int image = -1;
+  int wrap_s = 10497;
+  int wrap_t = 10497;
+  int mag_filter = -1;
+  int min_filter = -1;
+};
+
+// Decoded 8-bit image, rows top to bottom.
+struct Image {
+  std::string name;  // file path or a description of an embedded image
+  int width = 0;
+  int height = 0;
+  int channels = 0;
+  std::vector<std::uint8_t> pixels;
+};
+
+struct CameraDesc {
+  std::string name;
+  glm::mat4 camera_to_world{1.0f};  // camera looks down -z, +y up (glTF convention)
+  float yfov = 0.8f;                // radians
+  std::optional<float> aspect_ratio;
+};
+
+enum class LightType { Point, Spot, Directional };
+
+// KHR_lights_punctual in the extension's units: intensity in candela (point, spot)
+// or lux (directional); colour linear.
+struct PunctualLight {
+  std::string name;
+  LightType type = LightType::Point;
+  glm::vec3 color{1.0f};
+  float intensity = 1.0f;
+  glm::vec3 position{0.0f};
+  glm::vec3 direction{0.0f, 0.0f, -1.0f};  // direction the light shines, world space
+  float range = 0.0f;                       // 0: unlimited
+  float inner_cone = 0.0f;
+  float outer_cone = 0.7853981634f;
+};
+
+// What a reader skipped or repaired; reported to the user.
+struct LoadStats {
+  std::size_t degenerate_dropped = 0;  // zero-area triangles
+  std::size_t non_triangle_primitives_skipped = 0;  // points and lines
+  std::size_t zero_normals_repaired = 0;
+};
+
+// Per-triangle flags saying which per-corner attributes are real.
+enum TriangleAttrib : std::uint8_t { kHasNormals = 1, kHasTexcoords = 2, kHasTangents = 4 };
+
+struct Scene {
+  std::string source;  // file it came from, or the procedural scene's name
+
+  // Geometry. Triangle i has corners 3i, 3i+1, 3i+2 in the per-corner arrays below.
+  TriangleSoA triangles;
+  std::vector<std::uint32_t> material_id;         // per triangle, index into materials
+  std::vector<std::uint32_t> source_triangle_id;  // per triangle: position among the file's triangles
+  std::vector<std::uint8_t> attrib_flags;         // per triangle, TriangleAttrib bits
+  std::vector<glm::vec3> normals;                 // per corner, world space, unit length
+  std::vector<glm::vec2> texcoords;               // per corner, TEXCOORD_0
+  std::vector<glm::vec4> tangents;                // per corner, xyz world space, w handedness
+
+  std::vector<Material> materials;  // never empty once loaded: a default material is added
+  std::vector<Texture> textures;
+  std::vector<Image> images;
+  std::vector<CameraDesc> cameras;
+  std::vector<PunctualLight> lights;
+  LoadStats stats;
+
+  std::size_t triangle_count() const { return triangles.size(); }
+  Bounds3 bounds() const { return triangles.bounds(); }
+};
+
+}  // namespace lancer

@@ -3,16 +3,20 @@ JOBS ?= $(shell nproc)
 BUILD := build/release
 LANCER := $(BUILD)/lancer
 
-.PHONY: render test build deps bench-micro test-sanitize clean
+.PHONY: render test build configure deps bench-micro test-sanitize clean
 
 deps:
 	@scripts/install-deps.sh
 
-build: deps
+configure: deps
 	cmake --preset release >/dev/null
+
+build: configure
 	cmake --build $(BUILD) -j $(JOBS)
 
-render: build
+# Only the program: a first `make render` need not compile the tests and benchmarks.
+render: configure
+	cmake --build $(BUILD) -j $(JOBS) --target lancer
 	@mkdir -p out
 	$(LANCER) render scenes/cornell-box.gltf -o out/cornell-box.exr -o out/cornell-box.png
 

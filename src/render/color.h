@@ -38,10 +38,15 @@ inline std::uint8_t linear_to_srgb8(float linear) {
 }
 
 // 8-bit sRGB code -> linear value, from a table built once (thread-safe static init).
+// The table is evaluated in double, so each entry is the nearest float to the exact
+// value (the float curve above is a few ulps off near 0.5).
 inline float srgb8_to_linear(std::uint8_t code) {
   static const std::array<float, 256> table = [] {
     std::array<float, 256> t{};
-    for (int i = 0; i < 256; ++i) t[i] = srgb_to_linear(static_cast<float>(i) / 255.0f);
+    for (int i = 0; i < 256; ++i) {
+      const double encoded = i / 255.0;
+      t[i] = static_cast<float>(encoded <= 0.04045 ? encoded / 12.92 : std::pow((encoded + 0.055) / 1.055, 2.4));
+    }
     return t;
   }();
   return table[code];

@@ -5,6 +5,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "render/color.h"
+
 namespace lancer {
 
 namespace {
@@ -38,7 +40,7 @@ PunctualIncidence illuminate(const PunctualLight& light, const glm::vec3& p) {
     const float len = glm::length(light.direction);
     if (!(len > 0.0f)) return in;
     in.wi = -light.direction / len;
-    in.distance = kInfinityDistance;
+    in.distance = kInfinity;
     in.irradiance = power;
     return in;
   }
@@ -67,7 +69,7 @@ AreaLights::AreaLights(const Scene& scene) {
     const float len = glm::length(n);
     t.area = 0.5f * len;
     t.radiance = m.emission();
-    const double power = static_cast<double>(t.area) * luminance709(t.radiance);
+    const double power = static_cast<double>(t.area) * luminance(t.radiance);
     // Lights too small for float, or with no positive luminance, can never be sampled
     // with a finite pdf: they are left out (they still show when seen directly).
     if (!(len > 0.0f) || !std::isfinite(len) || !(power > 0.0) || !std::isfinite(power)) continue;

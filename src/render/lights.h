@@ -6,6 +6,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "accel/ray.h"
 #include "scene/scene.h"
 
 namespace lancer {
@@ -59,8 +60,5 @@ class AreaLights {
   std::vector<EmissiveTriangle> lights_;
   std::vector<double> cdf_;  // cdf_[i]: total power of lights 0..i, cdf_.back() == total
 };
-
-// Rec. 709 luminance of a linear RGB triple.
-inline float luminance709(const glm::vec3& c) { return 0.2126f * c.x + 0.7152f * c.y + 0.0722f * c.z; }
 
 }  // namespace lancer

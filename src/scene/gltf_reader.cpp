@@ -1,1 +1,199 @@
-// placeholder: written by another helper
+// glTF 2.0 reader. The file is read here, its JSON checked (gltf_json_checks), parsed
+// by tinygltf, then every index, size and offset is checked again on use
+// (gltf_accessors, gltf_nodes, gltf_materials) since tinygltf trusts most of them.
+#include "scene/gltf_reader.h"
+
+#include <algorithm>
+#include <cctype>
+#include <climits>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iostream>
+#include <iterator>
+#include <numbers>
+#include <system_error>
+
+#include <glm/geometric.hpp>
+#include <tiny_gltf.h>
+
+#include "scene/gltf_json_checks.h"
+#include "scene/gltf_materials.h"
+#include "scene/gltf_nodes.h"
+#include "scene/gltf_primitives.h"
+#include "scene/scene_builder.h"
+#include "scene/scene_error.h"
+
+namespace lancer {
+
+namespace {
+
+using gltf::ModelRef;
+
+std::vector<unsigned char> read_whole_file(const std::filesystem::path& path, const std::string& file) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) throw SceneError(file, "no such file");
+  if (!std::filesystem::is_regular_file(path, ec)) throw SceneError(file, "not a regular file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError(file, "cannot open file for reading");
+  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw SceneError(file, "read error");
+  if (bytes.empty()) throw SceneError(file, "empty file");
+  // tinygltf takes the length as unsigned int.
+  if (bytes.size() > std::size_t(UINT_MAX)) throw SceneError(file, "file too large (over 4 GiB)");
+  return bytes;
+}
+
+std::string lower_extension(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return char(std::tolower(c)); });
+  return ext;
+}
+
+std::string trimmed(std::string s) {
+  while (!s.empty() && std::isspace(static_cast<unsigned char>(s.back()))) s.pop_back();
+  for (char& c : s)
+    if (c == '\n') c = ';';
+  return s;
+}
+
+// tinygltf image callback: keep the encoded bytes and decode later with our own
+// checks. For images in a bufferView tinygltf passes a pointer it has not
+// bounds-checked, so those bytes are not touched here.
+bool keep_encoded_image(tinygltf::Image* image, const int /*index*/, std::string* /*err*/, std::string* /*warn*/,
+                        int /*req_width*/, int /*req_height*/, const unsigned char* bytes, int size, void* /*user*/) {
+  image->as_is = true;
+  if (image->bufferView < 0 && bytes && size > 0) image->image.assign(bytes, bytes + size);
+  return true;
+}
+
+tinygltf::Model load_model(const std::filesystem::path& path, const std::string& file) {
+  const std::vector<unsigned char> bytes = read_whole_file(path, file);
+  // Binary when the magic says so; a .glb must be binary.
+  const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  if (lower_extension(path) == ".glb" && !binary)
+    throw SceneError(file, bytes.size() < 4 ? "truncated binary glTF: shorter than its magic"
+                                            : "not a binary glTF file (bad magic, expected 'glTF')");
+  const std::string_view json_text =
+      binary ? gltf::glb_json_chunk(file, bytes)
+             : std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  gltf::check_gltf_json(file, json_text);
+
+  tinygltf::TinyGLTF loader;
+  loader.SetImageLoader(keep_encoded_image, nullptr);
+  tinygltf::Model model;
+  std::string err, warn;
+  const std::string base_dir = path.parent_path().string();
+  bool ok = false;
+  try {
+    ok = binary ? loader.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), unsigned(bytes.size()), base_dir)
+                : loader.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
+                                             unsigned(bytes.size()), base_dir);
+  } catch (const std::exception& e) {
+    throw SceneError(file, std::string("invalid glTF: ") + e.what());
+  }
+  if (!warn.empty()) std::cerr << file << ": warning: " << trimmed(warn) << "\n";
+  // tinygltf also reports some problems in `err` while returning true (a primitive it
+  // dropped, a missing required property): those are errors too.
+  if (!ok || !err.empty())
+    throw SceneError(file, "invalid glTF: " + (err.empty() ? std::string("tinygltf refused the file") : trimmed(err)));
+  return model;
+}
+
+void add_camera(const ModelRef& m, int node, int camera, const glm::dmat4& world, Scene& scene) {
+  if (camera < 0 || std::size_t(camera) >= m.model.cameras.size())
+    throw SceneError(m.file, "node " + std::to_string(node) + ": camera index " + std::to_string(camera) +
+                                 " out of range (the file has " + std::to_string(m.model.cameras.size()) +
+                                 " cameras)");
+  const tinygltf::Camera& c = m.model.cameras[std::size_t(camera)];
+  const std::string what = "camera " + std::to_string(camera);
+  if (c.type != "perspective") {
+    std::cerr << m.file << ": warning: skipping " << c.type << " " << what
+              << " (only perspective cameras are supported)\n";
+    return;
+  }
+  const double yfov = c.perspective.yfov;
+  if (!(yfov > 0.0 && yfov < std::numbers::pi)) throw SceneError(m.file, what + ": yfov must be between 0 and pi radians");
+  const double aspect = c.perspective.aspectRatio;  // tinygltf: 0 when absent
+  if (!(aspect >= 0.0) || !std::isfinite(aspect)) throw SceneError(m.file, what + ": aspectRatio must be positive");
+  CameraDesc desc;
+  desc.name = !c.name.empty() ? c.name : m.model.nodes[std::size_t(node)].name;
+  desc.camera_to_world = glm::mat4(world);
+  desc.yfov = float(yfov);
+  if (aspect > 0.0) desc.aspect_ratio = float(aspect);
+  scene.cameras.push_back(desc);
+}
+
+LightType light_type(const ModelRef& m, const std::string& type, const std::string& what) {
+  if (type == "point") return LightType::Point;
+  if (type == "spot") return LightType::Spot;
+  if (type == "directional") return LightType::Directional;
+  throw SceneError(m.file, what + ": unknown KHR_lights_punctual type '" + type + "'");
+}
+
+// KHR_lights_punctual: the light sits at the node's origin and shines down its -Z.
+void add_light(const ModelRef& m, int node, const glm::dmat4& world, Scene& scene) {
+  const auto& extensions = m.model.nodes[std::size_t(node)].extensions;
+  const auto ext = extensions.find("KHR_lights_punctual");
+  if (ext == extensions.end()) return;
+  const std::string node_what = "node " + std::to_string(node) + " KHR_lights_punctual";
+  if (!ext->second.IsObject() || !ext->second.Has("light") || !ext->second.Get("light").IsInt())
+    throw SceneError(m.file, node_what + " needs an integer 'light'");
+  const int index = ext->second.Get("light").GetNumberAsInt();
+  if (index < 0 || std::size_t(index) >= m.model.lights.size())
+    throw SceneError(m.file, node_what + ": light index " + std::to_string(index) + " out of range (the file has " +
+                                 std::to_string(m.model.lights.size()) + " lights)");
+  const tinygltf::Light& l = m.model.lights[std::size_t(index)];
+  const std::string what = "light " + std::to_string(index);
+  PunctualLight out;
+  out.name = !l.name.empty() ? l.name : m.model.nodes[std::size_t(node)].name;
+  out.type = light_type(m, l.type, what);
+  if (!l.color.empty()) {
+    if (l.color.size() != 3) throw SceneError(m.file, what + ": color must have 3 numbers");
+    out.color = glm::vec3(l.color[0], l.color[1], l.color[2]);
+  }
+  if (!(l.intensity >= 0.0)) throw SceneError(m.file, what + ": intensity must not be negative");
+  if (!(l.range >= 0.0)) throw SceneError(m.file, what + ": range must be positive");
+  out.intensity = float(l.intensity);
+  out.range = float(l.range);
+  if (out.type == LightType::Spot) {
+    const double inner = l.spot.innerConeAngle, outer = l.spot.outerConeAngle;
+    if (!(inner >= 0.0 && inner <= outer && outer <= std::numbers::pi / 2))
+      throw SceneError(m.file, what + ": spot cone angles must satisfy 0 <= inner <= outer <= pi/2");
+    out.inner_cone = float(inner);
+    out.outer_cone = float(outer);
+  }
+  out.position = glm::vec3(world * glm::dvec4(0.0, 0.0, 0.0, 1.0));
+  const glm::dvec3 dir = glm::dmat3(world) * glm::dvec3(0.0, 0.0, -1.0);
+  const double len = glm::length(dir);
+  if (!(len > 0.0) || !std::isfinite(len))
+    throw SceneError(m.file, node_what + ": the node transform gives the light no direction");
+  out.direction = glm::vec3(dir / len);
+  scene.lights.push_back(out);
+}
+
+}  // namespace
+
+Scene read_gltf(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  const tinygltf::Model model = load_model(path, file);
+  const ModelRef m{model, file};
+
+  Scene scene;
+  scene.source = file;
+  gltf::read_textures_and_images(m, scene);
+  gltf::read_materials(m, scene);
+
+  SceneBuilder builder(scene, file);
+  gltf::PrimitiveEmitter emitter(m, scene, builder);
+  for (const gltf::NodeInstance& inst : gltf::scene_nodes(m)) {
+    const tinygltf::Node& node = model.nodes[std::size_t(inst.node)];
+    if (node.mesh >= 0) emitter.emit_mesh(node.mesh, inst.world);
+    if (node.camera >= 0) add_camera(m, inst.node, node.camera, inst.world, scene);
+    add_light(m, inst.node, inst.world, scene);
+  }
+  builder.finish();
+  return scene;
+}
+
+}  // namespace lancer

@@ -60,8 +60,8 @@ void append_indexed(Scene& scene, const IndexedMesh& mesh, std::uint32_t materia
     if (zero_area(mesh.positions[t[0]], mesh.positions[t[1]], mesh.positions[t[2]]))
       throw SceneError(name, "a triangle collapsed to zero area in single precision (size too small for its position)");
 
+  // No reserve here: exact reserves on repeated appends would defeat geometric growth.
   SceneBuilder builder(scene, name);
-  scene.triangles.reserve(scene.triangle_count() + mesh.triangles.size());
   const auto first_id = static_cast<std::uint32_t>(scene.source_triangle_id.size());
   for (std::size_t i = 0; i < mesh.triangles.size(); ++i) {
     const auto& t = mesh.triangles[i];
@@ -186,7 +186,7 @@ void append_icosphere(Scene& scene, glm::vec3 center, float radius, int subdivis
           faces.push_back({i, k, j});
       }
 
-  // Loop-free 1-to-4 split; each edge's midpoint is made once (keyed by its sorted
+  // Plain 1-to-4 split (no smoothing); each edge's midpoint is made once (keyed by its sorted
   // endpoints) so the two triangles beside the edge share it.
   for (int level = 0; level < subdivisions; ++level) {
     std::unordered_map<std::uint64_t, std::uint32_t> midpoint;
@@ -278,13 +278,19 @@ Scene make_random_triangle_soup(std::size_t count, std::uint64_t seed, Bounds3 b
   SplitMix64 rng(seed);
   const glm::vec3 extent = box.hi - box.lo;
   const float half = 0.5f * max_edge;
-  const auto in_box = [&] {
-    return glm::vec3(box.lo.x + rng.uniform() * extent.x, box.lo.y + rng.uniform() * extent.y,
-                     box.lo.z + rng.uniform() * extent.z);
+  // Draws are sequenced one statement each: the evaluation order of function
+  // arguments is unspecified, and would make the stream compiler-dependent.
+  const auto uniform3 = [&] {
+    glm::vec3 u;
+    u.x = rng.uniform();
+    u.y = rng.uniform();
+    u.z = rng.uniform();
+    return u;
   };
+  const auto in_box = [&] { return box.lo + uniform3() * extent; };
   const auto in_unit_ball = [&] {
     for (;;) {
-      const glm::vec3 v(2.0f * rng.uniform() - 1.0f, 2.0f * rng.uniform() - 1.0f, 2.0f * rng.uniform() - 1.0f);
+      const glm::vec3 v = 2.0f * uniform3() - 1.0f;
       if (glm::dot(v, v) <= 1.0f) return v;  // accepted with probability pi/6
     }
   };

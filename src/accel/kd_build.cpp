@@ -1,0 +1,196 @@
+// The build driver: root refs and events, the recursion, parallel subtrees, concatenation.
+//
+// Determinism: every decision depends only on the node's input (refs in ascending
+// triangle index, events in a strict total order), never on timing. Nodes with many refs
+// build their two children as separate oneTBB tasks, each into its own node and index
+// arrays, and the parent concatenates them in the fixed order (left, right) with the
+// offsets relocated. So the arrays are bytewise the same whatever the thread count.
+//
+// Memory bound: the root gets a budget of ceil(reference_factor * N) + 1 references; a
+// split is refused (the node becomes a leaf) when its children would hold more references
+// than its budget, and the children share the budget in proportion to their ref counts,
+// so the leaves hold at most the root budget in total. Each level of the tree holds at most
+// that many refs in its non-empty cells, so there are at most 2 * budget * depth_bound + 1
+// nodes, and the depth is capped by kd_depth_bound().
+#include "accel/kd_build.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+#include <tbb/parallel_invoke.h>
+
+#include "accel/kd_build_events.h"
+#include "accel/kd_build_naive.h"
+#include "accel/kd_build_partition.h"
+
+namespace lancer {
+namespace kd {
+namespace {
+
+// Nodes with at least this many refs split with parallel sweeps and build their children
+// as separate tasks; smaller subtrees are built sequentially into one array.
+constexpr std::size_t kParallelThreshold = 4096;
+
+// Inputs beyond this many triangles could overflow the 30-bit offsets.
+constexpr std::size_t kMaxTriangles = std::size_t(1) << 28;
+
+struct Context {
+  const TriangleSoA& tris;
+  const KdBuildOptions& options;
+  CostModel model;
+  int depth_bound;
+};
+
+// A built subtree: nodes[0] is its root, offsets are local to these arrays.
+struct Subtree {
+  std::vector<KdNode> nodes;
+  std::vector<std::uint32_t> prims;
+};
+
+SplitChoice choose_split(const Context& ctx, const NodeInput& in, bool parallel) {
+  const std::size_t n = in.refs.size();
+  if (n == 0 || in.depth >= ctx.depth_bound) return {};
+  // A cell that is a segment or a point holds only degenerate triangles: nothing to gain.
+  if (!(surface_area(in.cell) > 0.0)) return {};
+  switch (ctx.options.split) {
+    case KdSplit::Sah: {
+      SplitChoice c = find_sah_split(in.events, n, in.cell, ctx.model, parallel);
+      // Leaf when no split is cheaper than intersecting every triangle (Wald & Havran).
+      if (!c.found || !(c.cost < ctx.model.intersection * double(n))) return {};
+      return c;
+    }
+    case KdSplit::Middle:
+      return n <= ctx.options.naive_leaf_size ? SplitChoice{} : choose_middle_split(in);
+    case KdSplit::Median:
+      return n <= ctx.options.naive_leaf_size ? SplitChoice{} : choose_median_split(in);
+  }
+  return {};
+}
+
+void emit_leaf(const NodeInput& in, Subtree& out, std::size_t slot) {
+  const auto first = static_cast<std::uint32_t>(out.prims.size());
+  for (const Ref& r : in.refs) out.prims.push_back(r.tri);
+  out.nodes[slot] = KdNode::leaf(first, static_cast<std::uint32_t>(in.refs.size()));
+}
+
+// Depth-first into one array: the node goes to out.nodes[slot], its children pair is
+// appended at the end.
+void emit_sequential(const Context& ctx, NodeInput& in, Subtree& out, std::size_t slot) {
+  const SplitChoice c = choose_split(ctx, in, false);
+  NodeInput left, right;
+  if (!c.found || !partition_node(ctx.tris, in, c, false, left, right)) {
+    emit_leaf(in, out, slot);
+    return;
+  }
+  const std::size_t pair = out.nodes.size();
+  out.nodes.resize(pair + 2);
+  out.nodes[slot] = KdNode::inner(c.axis, c.pos, static_cast<std::uint32_t>(pair));
+  emit_sequential(ctx, left, out, pair);
+  left = {};
+  emit_sequential(ctx, right, out, pair + 1);
+}
+
+KdNode relocate(const KdNode& n, std::size_t node_shift, std::size_t prim_shift) {
+  return n.relocated(static_cast<std::uint32_t>(n.is_leaf() ? prim_shift : node_shift));
+}
+
+// Root (inner, children at 1 and 2), then the two roots, then the rest of the left
+// subtree, then the rest of the right one. A local node index k >= 1 of the left subtree
+// moves to k + 2, of the right one to k + left.nodes.size() + 1.
+Subtree concatenate(const SplitChoice& c, Subtree&& left, Subtree&& right) {
+  Subtree out;
+  const std::size_t left_shift = 2, right_shift = left.nodes.size() + 1, prim_shift = left.prims.size();
+  out.nodes.reserve(1 + left.nodes.size() + right.nodes.size());
+  out.nodes.push_back(KdNode::inner(c.axis, c.pos, 1));
+  out.nodes.push_back(relocate(left.nodes[0], left_shift, 0));
+  out.nodes.push_back(relocate(right.nodes[0], right_shift, prim_shift));
+  for (std::size_t k = 1; k < left.nodes.size(); ++k) out.nodes.push_back(relocate(left.nodes[k], left_shift, 0));
+  for (std::size_t k = 1; k < right.nodes.size(); ++k)
+    out.nodes.push_back(relocate(right.nodes[k], right_shift, prim_shift));
+  out.prims = std::move(left.prims);
+  out.prims.insert(out.prims.end(), right.prims.begin(), right.prims.end());
+  return out;
+}
+
+Subtree build_subtree(const Context& ctx, NodeInput& in) {
+  Subtree out;
+  out.nodes.resize(1);
+  if (in.refs.size() < kParallelThreshold) {
+    emit_sequential(ctx, in, out, 0);
+    return out;
+  }
+  const SplitChoice c = choose_split(ctx, in, true);
+  NodeInput left, right;
+  if (!c.found || !partition_node(ctx.tris, in, c, true, left, right)) {
+    emit_leaf(in, out, 0);
+    return out;
+  }
+  Subtree l, r;
+  tbb::parallel_invoke([&] { l = build_subtree(ctx, left); }, [&] { r = build_subtree(ctx, right); });
+  return concatenate(c, std::move(l), std::move(r));
+}
+
+bool finite_triangle(const TriangleSoA& t, std::size_t i) {
+  for (int k = 0; k < 3; ++k)
+    if (!std::isfinite(t.x[k][i]) || !std::isfinite(t.y[k][i]) || !std::isfinite(t.z[k][i])) return false;
+  return true;
+}
+
+void check_options(const KdBuildOptions& o) {
+  auto bad = [](const std::string& what) { throw std::invalid_argument("KdBuildOptions: " + what); };
+  if (!(o.traversal_cost > 0.0f) || !std::isfinite(o.traversal_cost)) bad("traversal_cost must be positive and finite");
+  if (!(o.intersection_cost > 0.0f) || !std::isfinite(o.intersection_cost))
+    bad("intersection_cost must be positive and finite");
+  if (!(o.empty_space_factor > 0.0f && o.empty_space_factor <= 1.0f)) bad("empty_space_factor must be in (0, 1]");
+  if (!(o.reference_factor >= 1.0f && o.reference_factor <= 16.0f)) bad("reference_factor must be in [1, 16]");
+  if (o.max_depth < 0) bad("max_depth must be >= 0 (0: automatic)");
+  if (o.naive_leaf_size < 1) bad("naive_leaf_size must be >= 1");
+}
+
+}  // namespace
+}  // namespace kd
+
+int kd_depth_bound(std::size_t n, int requested) {
+  if (requested > 0) return requested < kKdMaxDepth ? requested : kKdMaxDepth;
+  const double bound = n <= 1 ? 8.0 : std::round(8.0 + 1.3 * std::log2(double(n)));
+  return bound < kKdMaxDepth ? static_cast<int>(bound) : kKdMaxDepth;
+}
+
+KdBuildOutput build_kd_tree(const TriangleSoA& tris, const KdBuildOptions& options) {
+  kd::check_options(options);
+  if (tris.size() > kd::kMaxTriangles)
+    throw std::length_error("kd-tree: " + std::to_string(tris.size()) + " triangles exceed the limit of " +
+                            std::to_string(kd::kMaxTriangles));
+  KdBuildOutput out;
+  kd::NodeInput root;
+  root.refs.reserve(tris.size());
+  for (std::size_t i = 0; i < tris.size(); ++i) {
+    if (!kd::finite_triangle(tris, i)) continue;
+    const Bounds3 b = tris.triangle_bounds(i);
+    root.refs.push_back({static_cast<std::uint32_t>(i), b});
+    out.bounds.extend(b);
+  }
+  const std::size_t n = root.refs.size();
+  out.depth_bound = kd_depth_bound(n, options.max_depth);
+  // Capped at the 30-bit offset range, so no node's ref indices can overflow an Event key.
+  out.reference_budget = std::min<std::size_t>(
+      static_cast<std::size_t>(std::ceil(double(options.reference_factor) * double(n))) + 1, kKdMaxOffset);
+  root.cell = out.bounds;
+  root.budget = out.reference_budget;
+  if (options.split == KdSplit::Sah) root.events = kd::make_sorted_events(root.refs, n >= kd::kParallelThreshold);
+
+  const kd::Context ctx{tris, options,
+                        {options.traversal_cost, options.intersection_cost, options.empty_space_factor},
+                        out.depth_bound};
+  kd::Subtree tree = kd::build_subtree(ctx, root);
+  if (tree.nodes.size() > kKdMaxOffset || tree.prims.size() > kKdMaxOffset)
+    throw std::length_error("kd-tree: " + std::to_string(tree.nodes.size()) + " nodes and " +
+                            std::to_string(tree.prims.size()) + " references exceed the 30-bit node offsets");
+  out.nodes = std::move(tree.nodes);
+  out.prims = std::move(tree.prims);
+  return out;
+}
+
+}  // namespace lancer

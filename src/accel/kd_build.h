@@ -1,0 +1,60 @@
+// Building the kd-tree: options, and the flat result the KdTree class lays out.
+//
+// SAH trees follow Wald & Havran, "On building fast kd-trees for ray tracing, and on doing
+// that in O(N log N)", IEEE RT 2006: events sorted once, a sweep over all three axes per
+// node, classification, and splicing of the sorted events into the children without
+// re-sorting; straddling triangles are clipped to the child cells ("perfect splits").
+// Subtrees are built in parallel with oneTBB; the result does not depend on the number of
+// threads (see kd_build.cpp).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "accel/kd_build_cost.h"
+#include "accel/kd_node.h"
+#include "accel/triangle_soa.h"
+
+namespace lancer {
+
+enum class KdSplit {
+  Sah,     // surface area heuristic, O(N log N) event sweep
+  Middle,  // spatial middle of the cell's longest axis
+  Median,  // median of the triangle (clipped) box centres along the longest axis
+};
+
+struct KdBuildOptions {
+  KdSplit split = KdSplit::Sah;
+  float traversal_cost = kKdTraversalCost;
+  float intersection_cost = kKdIntersectionCost;
+  float empty_space_factor = kKdEmptySpaceFactor;
+  // 0: the automatic bound round(8 + 1.3 log2 N); always capped at kKdMaxDepth.
+  int max_depth = 0;
+  // Memory bound: the leaves hold at most ceil(reference_factor * N) + 1 triangle
+  // references in total (each node gets a share of this budget, see kd_build.cpp).
+  // In [1, 16].
+  float reference_factor = 4.0f;
+  // Middle and Median split until a leaf holds at most this many triangles.
+  std::size_t naive_leaf_size = 4;
+};
+
+// The tree before the SoA layout: leaves index `prims` (unpadded, ascending triangle
+// index within each leaf).
+struct KdBuildOutput {
+  Bounds3 bounds;                    // the root cell; empty when there is no finite triangle
+  std::vector<KdNode> nodes;         // nodes[0] is the root
+  std::vector<std::uint32_t> prims;  // leaf ranges, first_slot() indexes this
+  int depth_bound = 0;               // the depth bound the build used
+  std::size_t reference_budget = 0;  // the bound on prims.size()
+};
+
+// Triangles with a NaN or infinite coordinate are left out (the watertight kernel never
+// reports a hit on them). Throws std::length_error if the tree would exceed the 30-bit
+// offsets of the node layout.
+KdBuildOutput build_kd_tree(const TriangleSoA& tris, const KdBuildOptions& options);
+
+// The automatic depth bound for n triangles: round(8 + 1.3 log2 n), capped at kKdMaxDepth.
+int kd_depth_bound(std::size_t n, int requested);
+
+}  // namespace lancer

@@ -1,0 +1,113 @@
+#include "accel/kd_build_partition.h"
+
+#include <tbb/parallel_for.h>
+
+#include "accel/kd_build_clip.h"
+#include "accel/kd_build_events.h"
+
+namespace lancer::kd {
+namespace {
+
+// Side of a ref that does not straddle the plane, or 0 when it straddles it.
+std::uint8_t classify(const Bounds3& b, int axis, float pos, PlanarSide planar) {
+  const float lo = b.lo[axis], hi = b.hi[axis];
+  if (lo == hi) {
+    if (lo < pos) return kInLeft;
+    if (lo > pos) return kInRight;
+    return planar == PlanarSide::Left ? kInLeft : kInRight;
+  }
+  if (hi <= pos) return kInLeft;
+  if (lo >= pos) return kInRight;
+  return 0;
+}
+
+}  // namespace
+
+bool partition_node(const TriangleSoA& tris, NodeInput& in, const SplitChoice& choice, bool parallel,
+                    NodeInput& left, NodeInput& right) {
+  const std::size_t n = in.refs.size();
+  const int axis = choice.axis;
+  left.cell = in.cell;
+  right.cell = in.cell;
+  left.cell.hi[axis] = choice.pos;
+  right.cell.lo[axis] = choice.pos;
+
+  std::vector<std::uint8_t> side(n);
+  std::vector<std::uint32_t> straddling;
+  for (std::size_t i = 0; i < n; ++i) {
+    side[i] = classify(in.refs[i].box, axis, choice.pos, choice.planar);
+    if (side[i] == 0) straddling.push_back(static_cast<std::uint32_t>(i));
+  }
+
+  // Perfect splits: clip each straddling triangle to both child cells.
+  std::vector<Bounds3> clip_left(straddling.size()), clip_right(straddling.size());
+  auto clip_range = [&](std::size_t begin, std::size_t end) {
+    for (std::size_t k = begin; k < end; ++k) {
+      const Ref& r = in.refs[straddling[k]];
+      clip_left[k] = clipped_triangle_bounds(tris, r.tri, left.cell);
+      clip_right[k] = clipped_triangle_bounds(tris, r.tri, right.cell);
+      if (clip_left[k].empty() && clip_right[k].empty()) {
+        // Cannot happen for a triangle that meets the parent cell; if rounding ever says
+        // so, keep it on both sides (conservative) rather than lose it.
+        clip_left[k] = r.box;
+        clip_left[k].hi[axis] = choice.pos;
+        clip_right[k] = r.box;
+        clip_right[k].lo[axis] = choice.pos;
+      }
+    }
+  };
+  if (parallel && straddling.size() > 4096) {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, straddling.size(), 1024),
+                      [&](const tbb::blocked_range<std::size_t>& r) { clip_range(r.begin(), r.end()); });
+  } else {
+    clip_range(0, straddling.size());
+  }
+  for (std::size_t k = 0; k < straddling.size(); ++k)
+    side[straddling[k]] = kReclipped | (clip_left[k].empty() ? 0 : kInLeft) | (clip_right[k].empty() ? 0 : kInRight);
+
+  std::size_t nl = 0, nr = 0;
+  for (std::uint8_t s : side) {
+    nl += (s & kInLeft) ? 1 : 0;
+    nr += (s & kInRight) ? 1 : 0;
+  }
+  if (nl + nr > in.budget || nl + nr == 0) return false;
+
+  // Children's refs in ascending triangle index (the parent's order is kept).
+  std::vector<std::uint32_t> remap_left(n), remap_right(n), reclipped_left, reclipped_right;
+  left.refs.reserve(nl);
+  right.refs.reserve(nr);
+  std::size_t k = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint8_t s = side[i];
+    const bool reclipped = (s & kReclipped) != 0;
+    if (s & kInLeft) {
+      remap_left[i] = static_cast<std::uint32_t>(left.refs.size());
+      if (reclipped) reclipped_left.push_back(remap_left[i]);
+      left.refs.push_back({in.refs[i].tri, reclipped ? clip_left[k] : in.refs[i].box});
+    }
+    if (s & kInRight) {
+      remap_right[i] = static_cast<std::uint32_t>(right.refs.size());
+      if (reclipped) reclipped_right.push_back(remap_right[i]);
+      right.refs.push_back({in.refs[i].tri, reclipped ? clip_right[k] : in.refs[i].box});
+    }
+    if (reclipped) ++k;
+  }
+
+  if (!in.events.empty()) {
+    splice_events(in.events, side, remap_left, remap_right, left.refs, right.refs, reclipped_left, reclipped_right,
+                  left.events, right.events, parallel);
+  }
+
+  // Budget shares: budget * nl / (nl + nr) >= nl because nl + nr <= budget. The budget is
+  // below 2^32 and nl below 2^30 (kd_build.cpp checks), so the product fits in 64 bits.
+  const std::size_t total = nl + nr;
+  left.budget = in.budget * nl / total;
+  right.budget = in.budget * nr / total;
+  left.depth = right.depth = in.depth + 1;
+
+  in.refs = {};
+  in.events = {};
+  return true;
+}
+
+}  // namespace lancer::kd

@@ -1,0 +1,19 @@
+// Splitting one kd-tree node: classification of its triangles, perfect-split clipping of
+// the straddling ones, the children's ref lists and (for SAH) their spliced event lists.
+#pragma once
+
+#include "accel/kd_build_types.h"
+
+namespace lancer::kd {
+
+// Splits `in` at `choice` into `left` and `right` (Wald & Havran 2006, section 4.3):
+// a ref lying in the plane goes to choice.planar; one ending at the plane goes left, one
+// starting at it goes right; one straddling it is clipped to both child cells and kept
+// on each side where the clipped triangle is not empty. Children get a share of the
+// reference budget proportional to their ref counts. Returns false, leaving `in` as it
+// was, when the children together would hold more references than `in.budget`; else
+// empties `in` and returns true.
+bool partition_node(const TriangleSoA& tris, NodeInput& in, const SplitChoice& choice, bool parallel,
+                    NodeInput& left, NodeInput& right);
+
+}  // namespace lancer::kd

@@ -1,0 +1,28 @@
+// Debug views of the primary hit; black (zero) where the camera ray hits nothing.
+//  normals: the stored shading normal (as in the file, not flipped towards the camera)
+//           mapped to colour as n * 0.5 + 0.5;
+//  depth:   t of the hit along the unit-length camera ray, i.e. the distance from the
+//           camera in scene units, written linearly to all three channels;
+//  primid:  a colour hashed from the triangle's position in the source file
+//           (scene.source_triangle_id), so the same triangle keeps its colour whatever
+//           the reader drops or the accelerator reorders.
+#pragma once
+
+#include <cstdint>
+
+#include <glm/vec3.hpp>
+
+#include "accel/accelerator.h"
+#include "render/render_settings.h"
+#include "scene/scene.h"
+
+namespace lancer {
+
+// A colour with channels in [0.15, 1] from a hash of `id`.
+glm::vec3 primid_color(std::uint32_t id);
+
+// `kind` must be Normals, Depth or PrimId. `ray.dir` must be unit length. Counts one ray.
+glm::vec3 debug_radiance(IntegratorKind kind, const Scene& scene, const Accelerator& accel, const Ray& ray,
+                         std::uint64_t& rays);
+
+}  // namespace lancer

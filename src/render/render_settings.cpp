@@ -1,0 +1,22 @@
+#include "render/render_settings.h"
+
+namespace lancer {
+
+std::string_view integrator_name(IntegratorKind kind) {
+  switch (kind) {
+    case IntegratorKind::Whitted: return "whitted";
+    case IntegratorKind::Normals: return "normals";
+    case IntegratorKind::Depth: return "depth";
+    case IntegratorKind::PrimId: return "primid";
+  }
+  return "unknown";
+}
+
+std::optional<IntegratorKind> parse_integrator(std::string_view name) {
+  for (IntegratorKind k : {IntegratorKind::Whitted, IntegratorKind::Normals, IntegratorKind::Depth,
+                           IntegratorKind::PrimId})
+    if (integrator_name(k) == name) return k;
+  return std::nullopt;
+}
+
+}  // namespace lancer

@@ -1,0 +1,26 @@
+// The public entry point of the renderer: one call renders one image.
+#pragma once
+
+#include <cstddef>
+#include <functional>
+
+#include "accel/accelerator.h"
+#include "render/camera.h"
+#include "render/image.h"
+#include "render/render_settings.h"
+#include "scene/scene.h"
+
+namespace lancer {
+
+// Called from worker threads after each tile; must be thread-safe on the caller's side.
+using ProgressCallback = std::function<void(std::size_t tiles_done, std::size_t tiles_total)>;
+
+// Renders settings.width x settings.height pixels (the camera must have the same size)
+// with settings.spp jittered samples per pixel, box-filtered. The image depends only on
+// the inputs and settings.seed, never on settings.threads or settings.tile_size.
+// `accel` must have been built over scene.triangles. Throws std::invalid_argument on
+// invalid settings. Fills stats.seconds and stats.rays (every ray traced).
+ImageRGB render_image(const Scene& scene, const Accelerator& accel, const PinholeCamera& camera,
+                      const RenderSettings& settings, RenderStats& stats, const ProgressCallback& progress = {});
+
+}  // namespace lancer

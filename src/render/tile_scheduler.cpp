@@ -1,0 +1,44 @@
+#include "render/tile_scheduler.h"
+
+#include <algorithm>
+#include <atomic>
+#include <stdexcept>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
+#include <tbb/task_arena.h>
+
+namespace lancer {
+
+std::vector<Tile> make_tiles(int width, int height, int tile_size) {
+  if (width <= 0 || height <= 0 || tile_size <= 0)
+    throw std::invalid_argument("tiles: image size and tile size must be positive");
+  std::vector<Tile> tiles;
+  for (int y = 0; y < height; y += tile_size)
+    for (int x = 0; x < width; x += tile_size)
+      tiles.push_back({x, y, std::min(x + tile_size, width), std::min(y + tile_size, height)});
+  return tiles;
+}
+
+void for_each_tile(const std::vector<Tile>& tiles, int threads, const std::function<void(const Tile&)>& render_tile,
+                   const std::function<void(std::size_t, std::size_t)>& on_done) {
+  if (threads < 0) throw std::invalid_argument("tiles: thread count must be >= 0");
+  std::atomic<std::size_t> done{0};
+  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
+  arena.execute([&] {
+    // One task per tile: tiles cost very different amounts, so let TBB steal single tiles.
+    tbb::parallel_for(
+        tbb::blocked_range<std::size_t>(0, tiles.size(), 1),
+        [&](const tbb::blocked_range<std::size_t>& r) {
+          for (std::size_t i = r.begin(); i != r.end(); ++i) {
+            render_tile(tiles[i]);
+            const std::size_t n = done.fetch_add(1, std::memory_order_relaxed) + 1;
+            if (on_done) on_done(n, tiles.size());
+          }
+        },
+        tbb::simple_partitioner());
+  });
+}
+
+}  // namespace lancer

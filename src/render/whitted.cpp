@@ -1,0 +1,176 @@
+#include "render/whitted.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+#include "accel/ray_offset.h"
+
+namespace lancer {
+
+namespace {
+
+constexpr float kInvPi = 0.31830988618379067f;
+// Shadow rays towards a light point stop this fraction short of it, so the light's own
+// surface is never counted as an occluder.
+constexpr float kShadowShorten = 1e-4f;
+// Closer than this (squared distance), a light sample's 1/r^2 is not evaluated.
+constexpr float kMinLightDistance2 = 1e-20f;
+
+bool is_mirror(const Material& m) { return m.metallic >= 0.5f && m.roughness < 0.2f; }
+
+// A secondary ray from `p` along unit `dir`, its origin pushed off the surface to the side
+// the ray leaves (Wächter & Binder's offset along the geometric normal).
+Ray spawn_ray(const SurfacePoint& sp, const glm::vec3& dir) {
+  Ray r;
+  r.org = offset_ray_origin(sp.p, glm::dot(dir, sp.ng) >= 0.0f ? sp.ng : -sp.ng);
+  r.dir = dir;
+  return r;
+}
+
+// The normal used for specular directions: the shading normal unless interpolation made
+// it face away from the incoming ray, then the geometric one.
+glm::vec3 specular_normal(const SurfacePoint& sp, const glm::vec3& wo) {
+  return glm::dot(wo, sp.ns) > 0.0f ? sp.ns : sp.ng;
+}
+
+}  // namespace
+
+float fresnel_dielectric(float cos_i, float eta) {
+  cos_i = std::clamp(cos_i, 0.0f, 1.0f);
+  if (cos_i == 0.0f) return 1.0f;
+  // Snell: sin_t = sin_i / eta.
+  const float sin2_t = (1.0f - cos_i * cos_i) / (eta * eta);
+  if (sin2_t >= 1.0f) return 1.0f;
+  const float cos_t = std::sqrt(1.0f - sin2_t);
+  const float rs = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
+  const float rp = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
+  return 0.5f * (rs * rs + rp * rp);
+}
+
+glm::vec3 fresnel_schlick(const glm::vec3& f0, float cos_i) {
+  const float m = 1.0f - std::clamp(cos_i, 0.0f, 1.0f);
+  const float m5 = (m * m) * (m * m) * m;
+  return f0 + (glm::vec3(1.0f) - f0) * m5;
+}
+
+WhittedIntegrator::WhittedIntegrator(const Scene& scene, const Accelerator& accel, const AreaLights& area_lights,
+                                     int max_depth, int light_samples)
+    : scene_(scene), accel_(accel), area_lights_(area_lights), max_depth_(max_depth), light_samples_(light_samples) {}
+
+glm::vec3 WhittedIntegrator::trace(const Ray& ray, int depth, PixelSampler& sampler, std::uint64_t& rays) const {
+  ++rays;
+  const Hit hit = accel_.intersect(ray);
+  if (!hit.valid()) return glm::vec3(0.0f);  // no environment yet
+  const SurfacePoint sp = make_surface_point(scene_, ray, hit);
+  const Material& m = *sp.material;
+
+  glm::vec3 L(0.0f);
+  if (sp.front_face) L += m.emission();
+  if (is_mirror(m)) {
+    if (depth < max_depth_) L += mirror(sp, ray, depth, sampler, rays);
+    return L;
+  }
+  const float transmission = std::clamp(m.transmission, 0.0f, 1.0f);
+  if (transmission > 0.0f && depth < max_depth_) L += transmission * dielectric(sp, ray, depth, sampler, rays);
+  if (transmission < 1.0f) L += (1.0f - transmission) * direct_lighting(sp, sampler, rays);
+  return L;
+}
+
+glm::vec3 WhittedIntegrator::mirror(const SurfacePoint& sp, const Ray& ray, int depth, PixelSampler& sampler,
+                                    std::uint64_t& rays) const {
+  const glm::vec3 wo = -ray.dir;
+  const glm::vec3 n = specular_normal(sp, wo);
+  const float cos_i = glm::dot(wo, n);
+  const glm::vec3 dir = glm::normalize(glm::reflect(ray.dir, n));
+  return fresnel_schlick(sp.base_color, cos_i) * trace(spawn_ray(sp, dir), depth + 1, sampler, rays);
+}
+
+glm::vec3 WhittedIntegrator::dielectric(const SurfacePoint& sp, const Ray& ray, int depth, PixelSampler& sampler,
+                                        std::uint64_t& rays) const {
+  // A non-physical ior from a file (<= 0, NaN) is treated as 1: the surface only refracts.
+  const float ior = std::isfinite(sp.material->ior) && sp.material->ior > 0.0f ? sp.material->ior : 1.0f;
+  // Entering through the front side goes from air into the material.
+  const float eta = sp.front_face ? ior : 1.0f / ior;  // n_t / n_i
+  const glm::vec3 wo = -ray.dir;
+  const glm::vec3 n = specular_normal(sp, wo);
+  const float cos_i = std::clamp(glm::dot(wo, n), 0.0f, 1.0f);
+  const float F = fresnel_dielectric(cos_i, eta);
+
+  glm::vec3 L(0.0f);
+  const glm::vec3 refl = glm::normalize(glm::reflect(ray.dir, n));
+  L += F * trace(spawn_ray(sp, refl), depth + 1, sampler, rays);
+  if (F < 1.0f) {
+    const float inv_eta = 1.0f / eta;
+    const float sin2_t = inv_eta * inv_eta * (1.0f - cos_i * cos_i);
+    const float cos_t = std::sqrt(std::max(0.0f, 1.0f - sin2_t));
+    const glm::vec3 refr = glm::normalize(inv_eta * ray.dir + (inv_eta * cos_i - cos_t) * n);
+    L += (1.0f - F) * sp.base_color * trace(spawn_ray(sp, refr), depth + 1, sampler, rays);
+  }
+  return L;
+}
+
+glm::vec3 WhittedIntegrator::direct_lighting(const SurfacePoint& sp, PixelSampler& sampler,
+                                             std::uint64_t& rays) const {
+  const glm::vec3 origin = offset_ray_origin(sp.p, sp.ng);
+  const glm::vec3 E = punctual_lighting(sp, origin, rays) + area_lighting(sp, origin, sampler, rays);
+  return sp.base_color * kInvPi * E;
+}
+
+// Sum over punctual lights of irradiance * cos(theta), one shadow ray each.
+glm::vec3 WhittedIntegrator::punctual_lighting(const SurfacePoint& sp, const glm::vec3& origin,
+                                               std::uint64_t& rays) const {
+  glm::vec3 E(0.0f);
+  for (const PunctualLight& light : scene_.lights) {
+    const PunctualIncidence in = illuminate(light, sp.p);
+    if (in.irradiance == glm::vec3(0.0f)) continue;
+    const float cos_g = glm::dot(sp.ng, in.wi);
+    const float cos_s = glm::dot(sp.ns, in.wi);
+    if (cos_g <= 0.0f || cos_s <= 0.0f) continue;  // light below the surface
+    Ray shadow;
+    shadow.org = origin;
+    if (light.type == LightType::Directional) {
+      shadow.dir = in.wi;
+    } else {
+      shadow.dir = light.position - origin;
+      shadow.tfar = 1.0f - kShadowShorten;
+    }
+    ++rays;
+    if (!accel_.occluded(shadow)) E += in.irradiance * cos_s;
+  }
+  return E;
+}
+
+// Estimate of the irradiance from the emissive triangles, sampled in area:
+// E = 1/N sum L_e cos_s cos_l / r^2 / pdf_area  (one-sided emitters).
+glm::vec3 WhittedIntegrator::area_lighting(const SurfacePoint& sp, const glm::vec3& origin, PixelSampler& sampler,
+                                           std::uint64_t& rays) const {
+  if (area_lights_.empty() || light_samples_ <= 0) return glm::vec3(0.0f);
+  glm::vec3 sum(0.0f);
+  for (int k = 0; k < light_samples_; ++k) {
+    const float u_pick = sampler.next();
+    const float u1 = sampler.next();
+    const float u2 = sampler.next();
+    const AreaLightSample ls = area_lights_.sample(u_pick, u1, u2);
+    const glm::vec3 d = ls.point - sp.p;
+    const float dist2 = glm::dot(d, d);
+    if (!(dist2 > kMinLightDistance2) || !(ls.pdf_area > 0.0f)) continue;
+    const glm::vec3 wi = d / std::sqrt(dist2);
+    const float cos_g = glm::dot(sp.ng, wi);
+    const float cos_s = glm::dot(sp.ns, wi);
+    const float cos_l = -glm::dot(ls.normal, wi);
+    if (cos_g <= 0.0f || cos_s <= 0.0f || cos_l <= 0.0f) continue;
+    Ray shadow;
+    shadow.org = origin;
+    // Aim at the light point lifted off the light's surface, towards the shading point.
+    shadow.dir = offset_ray_origin(ls.point, ls.normal) - origin;
+    shadow.tfar = 1.0f - kShadowShorten;
+    ++rays;
+    if (accel_.occluded(shadow)) continue;
+    sum += ls.radiance * (cos_s * cos_l / (dist2 * ls.pdf_area));
+  }
+  return sum / static_cast<float>(light_samples_);
+}
+
+}  // namespace lancer

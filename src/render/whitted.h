@@ -1,0 +1,67 @@
+// Whitted-style recursive ray tracing (Whitted, "An Improved Illumination Model for
+// Shaded Display", CACM 23(6), 1980), as taught in the course, with unbiased soft shadows
+// from emissive triangles.
+//
+// At each hit: emission (front side only) + one of
+//  - mirror (metallic >= 0.5 and roughness < 0.2): Fresnel-Schlick with F0 = base colour
+//    times the radiance of the reflected ray;
+//  - smooth dielectric (weight = transmission): exact unpolarised Fresnel, Snell's law and
+//    total internal reflection; both the reflected and the refracted ray are traced, the
+//    refracted one tinted by the base colour (glTF KHR_materials_transmission). Radiance is
+//    not scaled by eta^2 across the interface: the factors cancel for closed objects in air;
+//  - Lambert (the remaining weight, BRDF = base colour / pi) lit directly by the punctual
+//    lights (one shadow ray each) and by `light_samples` samples of the emissive triangles.
+// Secondary rays stop after `max_depth` specular bounces; the background is black.
+#pragma once
+
+#include <cstdint>
+
+#include <glm/vec3.hpp>
+
+#include "accel/accelerator.h"
+#include "render/lights.h"
+#include "render/sampler.h"
+#include "render/surface.h"
+#include "scene/scene.h"
+
+namespace lancer {
+
+// Fresnel reflectance of a smooth dielectric for unpolarised light, eta = n_t / n_i,
+// cos_i the cosine of the incident angle (>= 0). Returns 1 under total internal reflection.
+float fresnel_dielectric(float cos_i, float eta);
+// Schlick's approximation: F0 + (1 - F0)(1 - cos_i)^5.
+glm::vec3 fresnel_schlick(const glm::vec3& f0, float cos_i);
+
+class WhittedIntegrator {
+ public:
+  // Keeps references: all arguments must outlive the integrator.
+  WhittedIntegrator(const Scene& scene, const Accelerator& accel, const AreaLights& area_lights, int max_depth,
+                    int light_samples);
+
+  // Radiance arriving at ray.org from direction -ray.dir (ray.dir unit length).
+  // `rays` is increased by every ray traced (this one, shadow and secondary rays).
+  glm::vec3 radiance(const Ray& ray, PixelSampler& sampler, std::uint64_t& rays) const {
+    return trace(ray, 0, sampler, rays);
+  }
+
+  // Reflected radiance at a Lambertian point from all lights (no emission of its own).
+  glm::vec3 direct_lighting(const SurfacePoint& sp, PixelSampler& sampler, std::uint64_t& rays) const;
+
+ private:
+  glm::vec3 trace(const Ray& ray, int depth, PixelSampler& sampler, std::uint64_t& rays) const;
+  glm::vec3 mirror(const SurfacePoint& sp, const Ray& ray, int depth, PixelSampler& sampler,
+                   std::uint64_t& rays) const;
+  glm::vec3 dielectric(const SurfacePoint& sp, const Ray& ray, int depth, PixelSampler& sampler,
+                       std::uint64_t& rays) const;
+  glm::vec3 punctual_lighting(const SurfacePoint& sp, const glm::vec3& origin, std::uint64_t& rays) const;
+  glm::vec3 area_lighting(const SurfacePoint& sp, const glm::vec3& origin, PixelSampler& sampler,
+                          std::uint64_t& rays) const;
+
+  const Scene& scene_;
+  const Accelerator& accel_;
+  const AreaLights& area_lights_;
+  int max_depth_;
+  int light_samples_;
+};
+
+}  // namespace lancer

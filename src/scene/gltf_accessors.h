@@ -1,0 +1,49 @@
+// Bounds-checked reads of glTF accessors. tinygltf checks almost none of an
+// accessor's arithmetic, so everything is verified here before a byte is read or an
+// element allocated: accessor and bufferView ids, byteStride, that
+// byteOffset + stride * (count - 1) + element size fits in the bufferView, that the
+// bufferView fits in its buffer, the types an attribute may have, and sparse data.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+#include <glm/vec4.hpp>
+
+namespace tinygltf {
+class Model;
+}
+
+namespace lancer::gltf {
+
+// A loaded model and the file name used in error messages.
+struct ModelRef {
+  const tinygltf::Model& model;
+  const std::string& file;
+};
+
+// The largest accessor without a bufferView (all zeros, typically the base of a
+// sparse accessor) that is materialised; its size is not bounded by any buffer.
+inline constexpr std::size_t kMaxZeroFilledElements = std::size_t(1) << 24;
+
+// `what` names the accessor's use in messages, e.g. "mesh 0 primitive 1 POSITION".
+// Each throws SceneError when the accessor is out of range, of a type the use does not
+// allow, or reaches outside its data.
+std::vector<glm::vec3> read_vec3_floats(const ModelRef& m, int accessor, const std::string& what);  // VEC3 FLOAT
+std::vector<glm::vec4> read_vec4_floats(const ModelRef& m, int accessor, const std::string& what);  // VEC4 FLOAT
+// VEC2 of FLOAT, or of normalized UNSIGNED_BYTE / UNSIGNED_SHORT (mapped to [0, 1]).
+std::vector<glm::vec2> read_texcoords(const ModelRef& m, int accessor, const std::string& what);
+// SCALAR of UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT.
+std::vector<std::uint32_t> read_indices(const ModelRef& m, int accessor, const std::string& what);
+
+// The bytes [offset, offset + length) of bufferView `view`, checked to lie in its buffer.
+struct ByteSpan {
+  const unsigned char* data = nullptr;
+  std::size_t size = 0;
+};
+ByteSpan buffer_view_bytes(const ModelRef& m, int view, const std::string& what);
+
+}  // namespace lancer::gltf

@@ -1,0 +1,20 @@
+// glTF materials, textures, samplers and images into Lancer's scene model.
+#pragma once
+
+#include "scene/gltf_accessors.h"
+#include "scene/scene.h"
+
+namespace lancer::gltf {
+
+// Appends one lancer::Material per glTF material, in file order (so glTF material i
+// is scene material i), reading the pbrMetallicRoughness model and the extensions
+// KHR_materials_emissive_strength, _ior, _transmission and _specular. Throws
+// SceneError on an unknown alphaMode, a texture index out of range or an extension
+// property of the wrong type.
+void read_materials(const ModelRef& m, Scene& scene);
+
+// Appends the textures (with their samplers) and the decoded 8-bit images. Throws
+// SceneError when an image cannot be read or decoded, or an index is out of range.
+void read_textures_and_images(const ModelRef& m, Scene& scene);
+
+}  // namespace lancer::gltf

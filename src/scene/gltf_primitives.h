@@ -1,0 +1,41 @@
+// Turns glTF mesh primitives into world-space triangles for a SceneBuilder.
+#pragma once
+
+#include <cstdint>
+#include <optional>
+
+#include <glm/mat4x4.hpp>
+
+#include "scene/gltf_accessors.h"
+#include "scene/scene_builder.h"
+
+namespace lancer::gltf {
+
+class PrimitiveEmitter {
+ public:
+  // scene.materials must already hold the file's materials (glTF material i = i).
+  PrimitiveEmitter(const ModelRef& m, Scene& scene, SceneBuilder& builder) : m_(m), scene_(scene), builder_(builder) {}
+
+  // Emits every primitive of mesh `mesh` placed by `world`. Triangles (mode 4), strips
+  // (5) and fans (6) become triangles; points and lines are counted in
+  // scene.stats.non_triangle_primitives_skipped with one warning on stderr per file.
+  //
+  // Source ids: each triangle's id is its position among the triangles of the file in
+  // emission order, i.e. node traversal order (see scene_nodes), then primitive order
+  // within the mesh, then triangle order within the primitive. A mesh used by two
+  // nodes gets ids for each instance; dropped zero-area triangles still use an id.
+  void emit_mesh(int mesh, const glm::dmat4& world);
+
+ private:
+  void emit_primitive(int mesh, int primitive, const glm::dmat4& world);
+  std::uint32_t material_id(int material, const std::string& what);
+
+  const ModelRef& m_;
+  Scene& scene_;
+  SceneBuilder& builder_;
+  std::uint32_t next_source_id_ = 0;
+  std::optional<std::uint32_t> default_material_;
+  bool warned_non_triangles_ = false;
+};
+
+}  // namespace lancer::gltf

@@ -1,0 +1,49 @@
+// The kd-tree build gives bytewise identical arrays whatever the number of threads.
+#include <cstring>
+
+#include <gtest/gtest.h>
+#include <tbb/task_arena.h>
+
+#include "accel/kd_tree.h"
+#include "kd_test_support.h"
+#include "scene/procedural.h"
+
+namespace lancer::test {
+namespace {
+
+template <typename Vec>
+bool same_bytes(const Vec& a, const Vec& b) {
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(a[0])) == 0);
+}
+
+void expect_identical(const KdTree& a, const KdTree& b, const std::string& what) {
+  EXPECT_TRUE(same_bytes(a.nodes(), b.nodes())) << what << ": node arrays differ (" << a.nodes().size() << " vs "
+                                                << b.nodes().size() << " nodes)";
+  EXPECT_TRUE(same_bytes(a.leaf_prims(), b.leaf_prims())) << what << ": leaf index arrays differ";
+  EXPECT_TRUE(same_bytes(a.blocks(), b.blocks())) << what << ": triangle blocks differ";
+  EXPECT_EQ(a.references(), b.references()) << what;
+}
+
+// Large enough that the top levels split with parallel sweeps and build their subtrees as
+// separate tasks (the parallel threshold is 4096 references).
+TEST(KdDeterminism, SameTreeForOneAndSeveralThreads) {
+  Scene s = make_random_triangle_soup(40000, 21, {{-4, -4, -4}, {4, 4, 4}}, 0.4f);
+  append_icosphere(s, {0.0f, 0.0f, 0.0f}, 3.0f, 5, 0);  // 20480 triangles sharing edges
+  const TriangleSoA& t = s.triangles;
+  for (KdSplit split : {KdSplit::Sah, KdSplit::Middle, KdSplit::Median}) {
+    KdBuildOptions o;
+    o.split = split;
+    tbb::task_arena one(1), several(4);
+    std::unique_ptr<KdTree> a, b, c;
+    one.execute([&] { a = std::make_unique<KdTree>(t, o); });
+    several.execute([&] { b = std::make_unique<KdTree>(t, o); });
+    c = std::make_unique<KdTree>(t, o);  // the default arena
+    ASSERT_GT(a->nodes().size(), 1000u);
+    const std::string what = "split " + std::to_string(int(split));
+    expect_identical(*a, *b, what + ", 1 vs 4 threads");
+    expect_identical(*a, *c, what + ", 1 thread vs default arena");
+  }
+}
+
+}  // namespace
+}  // namespace lancer::test

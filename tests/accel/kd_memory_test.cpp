@@ -1,0 +1,97 @@
+// The build's memory bound: references at most ceil(reference_factor * N) + 1, nodes at
+// most 2 * budget * depth_bound + 1, leaves no deeper than the depth bound (which the
+// traversal stack holds), on inputs that make every split duplicate references.
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "accel/kd_stats.h"
+#include "accel/kd_tree.h"
+#include "kd_test_support.h"
+
+namespace lancer::test {
+namespace {
+
+// `n` large triangles that all overlap each other across the whole box.
+TriangleSoA overlapping_triangles(std::size_t n, std::uint64_t seed) {
+  TestRng rng(seed);
+  TriangleSoA t;
+  for (std::size_t i = 0; i < n; ++i) {
+    const float z = rng.uniform(-1, 1);
+    t.push_back({-1.0f, -1.0f, z}, {1.0f, rng.uniform(-1, 1), rng.uniform(-1, 1)}, {rng.uniform(-1, 1), 1.0f, -z});
+  }
+  return t;
+}
+
+void expect_within_bounds(const KdTree& kd, std::size_t n, float factor, const std::string& what) {
+  const KdStats s = compute_kd_stats(kd);
+  const auto budget = static_cast<std::size_t>(std::ceil(double(factor) * double(n))) + 1;
+  EXPECT_EQ(kd.reference_budget(), budget) << what;
+  EXPECT_LE(s.references, budget) << what;
+  EXPECT_LE(s.nodes, 2 * budget * std::size_t(kd.depth_bound()) + 1) << what;
+  EXPECT_LE(s.max_leaf_depth, kd.depth_bound()) << what;
+  EXPECT_LE(kd.depth_bound(), kKdMaxDepth) << what;
+  EXPECT_EQ(kd.depth_bound(), kd_depth_bound(n, kd.options().max_depth)) << what;
+  // Memory: nodes, plus one padded slot range per leaf of 36 bytes of vertices + 4 of index.
+  const std::size_t slots = s.references + s.leaves * (kKdBlockWidth - 1);
+  EXPECT_LE(kd.leaf_prims().size(), slots) << what;
+  EXPECT_LE(kd.memory_bytes(), 2 * (s.nodes * sizeof(KdNode) + slots * 40)) << what;
+}
+
+TEST(KdMemory, ReferencesNodesAndDepthStayBounded) {
+  const std::size_t n = 1500;
+  const TriangleSoA t = overlapping_triangles(n, 31);
+  for (KdSplit split : {KdSplit::Sah, KdSplit::Middle, KdSplit::Median}) {
+    for (float factor : {1.0f, 2.0f, 4.0f}) {
+      KdBuildOptions o;
+      o.split = split;
+      o.reference_factor = factor;
+      o.naive_leaf_size = 1;  // the naive splits would go on until the bounds stop them
+      o.intersection_cost = 50.0f;  // and so would a SAH that finds intersections costly
+      const KdTree kd(t, o);
+      const std::string what = "split " + std::to_string(int(split)) + " factor " + std::to_string(factor);
+      expect_within_bounds(kd, n, factor, what);
+      if (split != KdSplit::Sah) {
+        EXPECT_GT(kd.references(), n * factor / 2) << what << ": the budget should be what stops it";
+      }
+    }
+  }
+}
+
+TEST(KdMemory, DepthBoundFormula) {
+  EXPECT_EQ(kd_depth_bound(0, 0), 8);
+  EXPECT_EQ(kd_depth_bound(1, 0), 8);
+  EXPECT_EQ(kd_depth_bound(1024, 0), 21);              // 8 + 1.3 * 10
+  EXPECT_EQ(kd_depth_bound(1u << 20, 0), 34);          // 8 + 1.3 * 20 = 34
+  EXPECT_EQ(kd_depth_bound(std::size_t(1) << 28, 0), 44);  // round(8 + 36.4)
+  EXPECT_EQ(kd_depth_bound(100, 5), 5);
+  EXPECT_EQ(kd_depth_bound(100, 1000), kKdMaxDepth);
+}
+
+// A requested depth bound holds, and the tree still answers exactly.
+TEST(KdMemory, ShallowDepthBoundStillExact) {
+  const TriangleSoA t = random_soup(500, 32, {{-1, -1, -1}, {1, 1, 1}}, 0.3f);
+  KdBuildOptions o;
+  o.max_depth = 3;
+  const KdTree kd(t, o);
+  EXPECT_LE(compute_kd_stats(kd).max_leaf_depth, 3);
+  OracleComparison cmp;
+  compare_with_oracle(kd, t, RayKind::Aimed, 2000, 33, true, cmp);
+  cmp.expect_no_mismatch("depth bound 3");
+}
+
+TEST(KdMemory, RejectsBadOptions) {
+  const TriangleSoA t = random_soup(10, 34, {{-1, -1, -1}, {1, 1, 1}}, 0.3f);
+  KdBuildOptions o;
+  o.reference_factor = 0.5f;
+  EXPECT_THROW(KdTree(t, o), std::invalid_argument);
+  o = {};
+  o.intersection_cost = -1.0f;
+  EXPECT_THROW(KdTree(t, o), std::invalid_argument);
+  o = {};
+  o.max_depth = -2;
+  EXPECT_THROW(KdTree(t, o), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace lancer::test

@@ -1,0 +1,130 @@
+// The lancer command line, in-process (run_cli) and as the real binary.
+#include "app/cli.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "render/image_io.h"
+#include "test_paths.h"
+
+namespace lancer {
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliResult {
+  int code;
+  std::string out, err;
+};
+
+CliResult run(std::vector<std::string> args) {
+  args.insert(args.begin(), "lancer");
+  std::vector<const char*> argv;
+  for (const auto& a : args) argv.push_back(a.c_str());
+  std::ostringstream out, err;
+  const int code = run_cli(static_cast<int>(argv.size()), argv.data(), out, err);
+  return {code, out.str(), err.str()};
+}
+
+fs::path temp_dir() {
+  const fs::path dir = fs::temp_directory_path() / ("lancer_cli_test_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  return dir;
+}
+
+std::string cornell() { return (test::scenes_dir() / "cornell-box.gltf").string(); }
+
+TEST(Cli, HelpListsEveryRenderOption) {
+  const CliResult top = run({"--help"});
+  EXPECT_EQ(top.code, 0);
+  EXPECT_NE(top.out.find("render"), std::string::npos);
+  EXPECT_NE(top.out.find("info"), std::string::npos);
+  const CliResult r = run({"render", "--help"});
+  EXPECT_EQ(r.code, 0);
+  for (const char* opt : {"--output", "--width", "--height", "--spp", "--integrator", "--threads", "--seed", "--accel",
+                          "--camera", "--eye", "--look-at", "--up", "--fov", "--max-depth"})
+    EXPECT_NE(r.out.find(opt), std::string::npos) << opt;
+}
+
+TEST(Cli, NoSubcommandIsAUsageError) { EXPECT_EQ(run({}).code, 2); }
+
+TEST(Cli, AbsurdOptionsAreRefused) {
+  for (const std::vector<std::string>& args :
+       {std::vector<std::string>{"render", cornell(), "--spp", "0"},
+        {"render", cornell(), "--width", "-1"},
+        {"render", cornell(), "--width", "100000", "--height", "100000"},
+        {"render", cornell(), "--threads", "-3"},
+        {"render", cornell(), "--integrator", "magic"},
+        {"render", cornell(), "--accel", "octree"},
+        {"render", cornell(), "--eye", "1,2"}}) {
+    const CliResult r = run(args);
+    EXPECT_EQ(r.code, 2) << args[2] << " " << args[3];
+    EXPECT_FALSE(r.err.empty());
+  }
+}
+
+TEST(Cli, MissingSceneNamesTheFile) {
+  const CliResult r = run({"render", "/nonexistent/scene.gltf", "-o", (temp_dir() / "x.png").string()});
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("/nonexistent/scene.gltf"), std::string::npos) << r.err;
+}
+
+TEST(Cli, UnknownOutputTypeIsRefusedBeforeRendering) {
+  const CliResult r = run({"render", cornell(), "-o", (temp_dir() / "x.bmp").string()});
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find(".bmp"), std::string::npos) << r.err;
+}
+
+TEST(Cli, CameraIndexOutOfRangeIsRefused) {
+  const CliResult r = run({"render", cornell(), "--camera", "7", "-o", (temp_dir() / "x.png").string()});
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("--camera"), std::string::npos) << r.err;
+}
+
+TEST(Cli, RendersExrAndPngWithSummary) {
+  const fs::path dir = temp_dir();
+  const fs::path exr = dir / "c.exr", png = dir / "sub" / "c.png";
+  const CliResult r = run({"render", cornell(), "--width", "24", "--height", "16", "--spp", "2", "--no-progress", "-o",
+                           exr.string(), "-o", png.string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("Mrays/s"), std::string::npos) << r.out;
+  const ImageRGB a = read_image(exr), b = read_image(png);
+  EXPECT_EQ(a.width, 24);
+  EXPECT_EQ(a.height, 16);
+  EXPECT_EQ(b.width, 24);
+  EXPECT_EQ(b.height, 16);
+  double sum = 0.0;
+  for (float v : a.rgb) sum += v;
+  EXPECT_GT(sum, 0.0) << "the lit Cornell box rendered black";
+}
+
+TEST(Cli, InfoDescribesTheScene) {
+  const CliResult r = run({"info", cornell()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("triangles:"), std::string::npos);
+  EXPECT_NE(r.out.find("bounds:"), std::string::npos);
+}
+
+// The real binary: exit codes reach the shell and output goes to the right streams.
+TEST(CliBinary, ExitCodesAndStreams) {
+  const fs::path dir = temp_dir();
+  const std::string bin = LANCER_BINARY;
+  const std::string bad = bin + " render " + (dir / "missing.obj").string() + " >" + (dir / "o.txt").string() + " 2>" +
+                          (dir / "e.txt").string();
+  const int status = std::system(bad.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 1);
+  std::ifstream e(dir / "e.txt");
+  const std::string err((std::istreambuf_iterator<char>(e)), std::istreambuf_iterator<char>());
+  EXPECT_NE(err.find("missing.obj"), std::string::npos) << err;
+}
+
+}  // namespace
+}  // namespace lancer

@@ -1,0 +1,70 @@
+// Small hand-built scenes for the renderer's tests: materials and axis-aligned squares.
+#pragma once
+
+#include <cstdint>
+
+#include <glm/vec3.hpp>
+
+#include "accel/ray.h"
+#include "scene/procedural.h"
+#include "scene/scene.h"
+
+namespace lancer::test {
+
+inline Material diffuse_material(const glm::vec3& albedo) {
+  Material m;
+  m.base_color = glm::vec4(albedo, 1.0f);
+  m.metallic = 0.0f;
+  m.roughness = 1.0f;
+  return m;
+}
+
+inline Material mirror_material(const glm::vec3& color) {
+  Material m;
+  m.base_color = glm::vec4(color, 1.0f);
+  m.metallic = 1.0f;
+  m.roughness = 0.0f;
+  return m;
+}
+
+inline Material glass_material(float ior) {
+  Material m = diffuse_material(glm::vec3(1.0f));
+  m.roughness = 0.0f;
+  m.transmission = 1.0f;
+  m.ior = ior;
+  return m;
+}
+
+// A black diffuse surface emitting `radiance` from its front side.
+inline Material emissive_material(const glm::vec3& radiance, float strength = 1.0f) {
+  Material m = diffuse_material(glm::vec3(0.0f));
+  m.emissive_factor = radiance;
+  m.emissive_strength = strength;
+  return m;
+}
+
+inline std::uint32_t add_material(Scene& scene, const Material& m) {
+  scene.materials.push_back(m);
+  return static_cast<std::uint32_t>(scene.materials.size() - 1);
+}
+
+// The square [cx - half, cx + half] x [cy - half, cy + half] in the plane z, its front side
+// facing +z (facing_up) or -z.
+inline void add_square_z(Scene& scene, float cx, float cy, float z, float half, bool facing_up,
+                         std::uint32_t material) {
+  const glm::vec3 a(cx - half, cy - half, z), b(cx + half, cy - half, z), c(cx + half, cy + half, z),
+      d(cx - half, cy + half, z);
+  if (facing_up)
+    append_quad(scene, a, b, c, d, material);
+  else
+    append_quad(scene, a, d, c, b, material);
+}
+
+inline Ray ray_from(const glm::vec3& org, const glm::vec3& dir) {
+  Ray r;
+  r.org = org;
+  r.dir = dir;
+  return r;
+}
+
+}  // namespace lancer::test

@@ -1,0 +1,209 @@
+// The Whitted integrator against closed-form answers on hand-built scenes.
+#include "render/whitted.h"
+
+#include <cmath>
+
+#include <glm/geometric.hpp>
+#include <gtest/gtest.h>
+
+#include "accel/brute_force.h"
+#include "render/lights.h"
+#include "scene/scene_builder.h"
+#include "render_test_scenes.h"
+
+namespace lancer {
+namespace {
+
+using test::add_material;
+using test::add_square_z;
+using test::ray_from;
+
+constexpr float kPi = 3.14159265358979f;
+
+// Radiance along `ray` in `scene`, with the oracle accelerator.
+glm::vec3 radiance(const Scene& scene, const Ray& ray, int max_depth = 8, int light_samples = 4,
+                   std::uint64_t* rays_out = nullptr) {
+  const BruteForce accel(scene.triangles);
+  const AreaLights area(scene);
+  const WhittedIntegrator whitted(scene, accel, area, max_depth, light_samples);
+  PixelSampler sampler(0, 0, 0, 1);
+  std::uint64_t rays = 0;
+  const glm::vec3 L = whitted.radiance(ray, sampler, rays);
+  if (rays_out) *rays_out = rays;
+  return L;
+}
+
+void expect_rel(const glm::vec3& got, const glm::vec3& want, float rel) {
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(got[c], want[c], rel * std::fabs(want[c])) << "channel " << c;
+}
+
+PunctualLight point_light(const glm::vec3& pos, float intensity, const glm::vec3& color = glm::vec3(1.0f)) {
+  PunctualLight l;
+  l.type = LightType::Point;
+  l.position = pos;
+  l.intensity = intensity;
+  l.color = color;
+  return l;
+}
+
+// A 20 x 20 diffuse floor at z = 0 lit by a point light at height h above the origin.
+struct LitFloor {
+  Scene scene;
+  glm::vec3 albedo{0.5f, 0.25f, 0.8f};
+  float intensity = 10.0f;
+  float h = 2.0f;
+  LitFloor() {
+    add_square_z(scene, 0, 0, 0, 10, true, add_material(scene, test::diffuse_material(albedo)));
+    scene.lights.push_back(point_light({0, 0, h}, intensity));
+  }
+};
+
+TEST(Whitted, PointLightAtTheFoot) {
+  LitFloor f;
+  const glm::vec3 L = radiance(f.scene, ray_from({0, 0, 5}, {0, 0, -1}));
+  expect_rel(L, f.albedo / kPi * f.intensity / (f.h * f.h), 1e-4f);
+}
+
+TEST(Whitted, PointLightOffAxisHasCosineOverRSquared) {
+  LitFloor f;
+  const float x = 1.5f;
+  const float r2 = f.h * f.h + x * x;
+  const float cos_theta = f.h / std::sqrt(r2);
+  const glm::vec3 L = radiance(f.scene, ray_from({x, 0, 5}, {0, 0, -1}));
+  expect_rel(L, f.albedo / kPi * f.intensity * cos_theta / r2, 1e-4f);
+  // The camera direction does not matter for a Lambertian surface.
+  const glm::vec3 oblique = radiance(f.scene, ray_from({x + 3, 0, 3}, glm::normalize(glm::vec3(-1, 0, -1))));
+  expect_rel(oblique, L, 1e-4f);
+}
+
+TEST(Whitted, PointLightColourAndBackSide) {
+  LitFloor f;
+  f.scene.lights[0].color = {1.0f, 0.5f, 0.0f};
+  const glm::vec3 L = radiance(f.scene, ray_from({0, 0, 5}, {0, 0, -1}));
+  expect_rel(L, f.albedo * glm::vec3(1.0f, 0.5f, 0.0f) / kPi * f.intensity / (f.h * f.h), 1e-4f);
+  // Seen from below, the floor's lower side faces away from the light.
+  EXPECT_EQ(radiance(f.scene, ray_from({0, 0, -5}, {0, 0, 1})), glm::vec3(0.0f));
+}
+
+TEST(Whitted, OccluderCastsAShadow) {
+  LitFloor f;
+  // A small horizontal triangle halfway between the light (0, 0, 2) and the point (3, 0, 0).
+  const glm::vec3 tri[3] = {{1.3f, -0.2f, 1.0f}, {1.7f, -0.2f, 1.0f}, {1.5f, 0.3f, 1.0f}};
+  SceneBuilder(f.scene, "occluder").add_triangle(tri, 0, 99);
+  EXPECT_EQ(radiance(f.scene, ray_from({3, 0, 5}, {0, 0, -1})), glm::vec3(0.0f));
+  // The mirrored point is lit: the shadow comes from the occluder, not from the geometry.
+  EXPECT_GT(radiance(f.scene, ray_from({-3, 0, 5}, {0, 0, -1})).x, 0.0f);
+}
+
+TEST(Whitted, EmissiveQuadShowsItsEmissionOnTheFrontOnly) {
+  Scene scene;
+  const glm::vec3 e(2.0f, 3.0f, 4.0f);
+  add_square_z(scene, 0, 0, 0, 1, true, add_material(scene, test::emissive_material(e, 5.0f)));
+  EXPECT_EQ(radiance(scene, ray_from({0.3f, 0.2f, 4}, {0, 0, -1})), e * 5.0f);
+  EXPECT_EQ(radiance(scene, ray_from({0.3f, 0.2f, -4}, {0, 0, 1})), glm::vec3(0.0f));
+}
+
+TEST(Whitted, MirrorAtNormalIncidenceShowsBaseColourTimesEmission) {
+  Scene scene;
+  const glm::vec3 base(0.9f, 0.6f, 0.3f), e(4.0f, 2.0f, 1.0f);
+  add_square_z(scene, 0, 0, 0, 10, true, add_material(scene, test::mirror_material(base)));
+  add_square_z(scene, 0, 0, 3, 10, false, add_material(scene, test::emissive_material(e)));
+  const Ray r = ray_from({0.1f, 0.2f, 1}, {0, 0, -1});
+  expect_rel(radiance(scene, r), base * e, 1e-6f);
+  // With no bounce allowed the mirror is black.
+  EXPECT_EQ(radiance(scene, r, 0), glm::vec3(0.0f));
+}
+
+TEST(Whitted, MirrorFollowsSchlickAtAnAngle) {
+  Scene scene;
+  const glm::vec3 base(0.5f, 0.5f, 0.5f), e(1.0f);
+  add_square_z(scene, 0, 0, 0, 10, true, add_material(scene, test::mirror_material(base)));
+  add_square_z(scene, 0, 0, 3, 30, false, add_material(scene, test::emissive_material(e)));
+  const float angle = 1.2f;  // from the normal
+  const glm::vec3 dir(std::sin(angle), 0.0f, -std::cos(angle));
+  const float m = 1.0f - std::cos(angle);
+  expect_rel(radiance(scene, ray_from(-dir, dir)), base + (1.0f - base) * std::pow(m, 5.0f), 1e-5f);
+}
+
+TEST(Whitted, DielectricFresnelValues) {
+  // Normal incidence on glass: ((1.5 - 1) / (1.5 + 1))^2 = 0.04.
+  EXPECT_NEAR(fresnel_dielectric(1.0f, 1.5f), 0.04f, 1e-7f);
+  // 45 degrees on glass: Rs = 0.0920, Rp = 0.0085 (Hecht, Optics, fig. 4.48), mean 0.0502.
+  EXPECT_NEAR(fresnel_dielectric(std::sqrt(0.5f), 1.5f), 0.05025f, 5e-5f);
+  // Leaving glass beyond the critical angle asin(1/1.5) = 41.8 degrees: total reflection.
+  EXPECT_EQ(fresnel_dielectric(std::cos(0.8f), 1.0f / 1.5f), 1.0f);
+  EXPECT_LT(fresnel_dielectric(std::cos(0.7f), 1.0f / 1.5f), 1.0f);
+  // Grazing incidence reflects everything; matched media reflect nothing.
+  EXPECT_EQ(fresnel_dielectric(0.0f, 1.5f), 1.0f);
+  EXPECT_EQ(fresnel_dielectric(0.7f, 1.0f), 0.0f);
+}
+
+TEST(Whitted, GlassSurfaceReflectsFourPercentAtNormalIncidence) {
+  Scene scene;
+  const glm::vec3 e(10.0f, 20.0f, 30.0f);
+  add_square_z(scene, 0, 0, 0, 10, true, add_material(scene, test::glass_material(1.5f)));
+  add_square_z(scene, 0, 0, 3, 10, false, add_material(scene, test::emissive_material(e)));
+  // The refracted ray leaves downwards into nothing: only the reflection is seen.
+  expect_rel(radiance(scene, ray_from({0.1f, 0.2f, 1}, {0, 0, -1})), 0.04f * e, 1e-5f);
+}
+
+TEST(Whitted, RefractionFollowsSnell) {
+  // A ray at 45 degrees enters glass (ior 1.5) at the origin; a thin emissive strip one unit
+  // below lies where Snell's law sends it: x = tan(asin(sin 45 / 1.5)) = 0.5345.
+  Scene scene;
+  const glm::vec3 e(1.0f);
+  add_square_z(scene, 0, 0, 0, 10, true, add_material(scene, test::glass_material(1.5f)));
+  const std::uint32_t strip = add_material(scene, test::emissive_material(e));
+  const float x = std::tan(std::asin(std::sqrt(0.5f) / 1.5f));
+  append_quad(scene, {x - 0.01f, -1, -1}, {x + 0.01f, -1, -1}, {x + 0.01f, 1, -1}, {x - 0.01f, 1, -1}, strip);
+  const glm::vec3 dir = glm::normalize(glm::vec3(1, 0, -1));
+  const float F = fresnel_dielectric(std::sqrt(0.5f), 1.5f);
+  expect_rel(radiance(scene, ray_from(-dir, dir)), (1.0f - F) * e, 1e-5f);
+  // Moving the strip by 0.03 (a 1 degree error in the angle) loses it.
+  Scene shifted = scene;
+  for (int k = 0; k < 3; ++k)
+    for (std::size_t i = 2; i < 4; ++i) shifted.triangles.x[k][i] += 0.03f;
+  EXPECT_EQ(radiance(shifted, ray_from(-dir, dir)), glm::vec3(0.0f));
+}
+
+TEST(Whitted, GlassSlabConservesEnergy) {
+  // Slab z in [-0.5, 0] with outward faces, equal emitters above and below: whatever splits
+  // between reflection and transmission, lossless glass returns exactly the emission.
+  Scene scene;
+  const glm::vec3 e(3.0f);
+  const std::uint32_t glass = add_material(scene, test::glass_material(1.5f));
+  add_square_z(scene, 0, 0, 0, 20, true, glass);
+  add_square_z(scene, 0, 0, -0.5f, 20, false, glass);
+  const std::uint32_t light = add_material(scene, test::emissive_material(e));
+  add_square_z(scene, 0, 0, 3, 50, false, light);
+  add_square_z(scene, 0, 0, -3, 50, true, light);
+  for (float angle : {0.0f, 0.5f, 1.0f, 1.4f}) {
+    const glm::vec3 dir(std::sin(angle), 0.0f, -std::cos(angle));
+    expect_rel(radiance(scene, ray_from(glm::vec3(0, 0, 0.5f) - dir, dir), 40), e, 1e-5f);
+  }
+}
+
+TEST(Whitted, GlassSlabSplitsLikeTheAiryFormula) {
+  // Only the emitter below: a two-interface slab at normal incidence transmits
+  // T^2 / (1 - R^2) with R = 0.04, T = 0.96 (incoherent sum of internal reflections).
+  Scene scene;
+  const glm::vec3 e(1.0f);
+  const std::uint32_t glass = add_material(scene, test::glass_material(1.5f));
+  add_square_z(scene, 0, 0, 0, 20, true, glass);
+  add_square_z(scene, 0, 0, -0.5f, 20, false, glass);
+  add_square_z(scene, 0, 0, -3, 50, true, add_material(scene, test::emissive_material(e)));
+  const float R = 0.04f, T = 0.96f;
+  expect_rel(radiance(scene, ray_from({0.1f, 0.1f, 1}, {0, 0, -1}), 40), e * (T * T / (1 - R * R)), 1e-5f);
+}
+
+TEST(Whitted, CountsEveryRay) {
+  LitFloor f;
+  std::uint64_t rays = 0;
+  radiance(f.scene, ray_from({0, 0, 5}, {0, 0, -1}), 8, 4, &rays);
+  EXPECT_EQ(rays, 2u);  // camera ray + one shadow ray (no area lights)
+  radiance(f.scene, ray_from({0, 0, 5}, {0, 0, 1}), 8, 4, &rays);
+  EXPECT_EQ(rays, 1u);  // a miss
+}
+
+}  // namespace
+}  // namespace lancer

@@ -18,7 +18,7 @@ struct RenderSettings {
   int spp = 16;            // jittered samples per pixel
   IntegratorKind integrator = IntegratorKind::Whitted;
   int max_depth = 8;       // reflection/refraction recursion limit
-  int light_samples = 4;   // shadow rays per area light at each shading point
+  int light_samples = 4;   // shadow rays toward area lights, in total, per shading point
   int threads = 0;         // 0: all hardware threads
   std::uint64_t seed = 0;
   int tile_size = 16;

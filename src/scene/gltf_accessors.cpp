@@ -1,8 +1,8 @@
 #include "scene/gltf_accessors.h"
 
-#include <cstring>
-
 #include <tiny_gltf.h>
+
+#include <cstring>
 
 #include "scene/scene_error.h"
 
@@ -21,39 +21,59 @@ constexpr int kFloat = TINYGLTF_COMPONENT_TYPE_FLOAT;
 std::size_t component_size(int type) {
   switch (type) {
     case kByte:
-    case kUByte: return 1;
+    case kUByte:
+      return 1;
     case kShort:
-    case kUShort: return 2;
+    case kUShort:
+      return 2;
     case kInt:
     case kUInt:
-    case kFloat: return 4;
-    default: return 0;
+    case kFloat:
+      return 4;
+    default:
+      return 0;
   }
 }
 
 std::string component_name(int type) {
   switch (type) {
-    case kByte: return "BYTE";
-    case kUByte: return "UNSIGNED_BYTE";
-    case kShort: return "SHORT";
-    case kUShort: return "UNSIGNED_SHORT";
-    case kInt: return "INT";
-    case kUInt: return "UNSIGNED_INT";
-    case kFloat: return "FLOAT";
-    default: return "component type " + std::to_string(type);
+    case kByte:
+      return "BYTE";
+    case kUByte:
+      return "UNSIGNED_BYTE";
+    case kShort:
+      return "SHORT";
+    case kUShort:
+      return "UNSIGNED_SHORT";
+    case kInt:
+      return "INT";
+    case kUInt:
+      return "UNSIGNED_INT";
+    case kFloat:
+      return "FLOAT";
+    default:
+      return "component type " + std::to_string(type);
   }
 }
 
 std::string type_name(int type) {
   switch (type) {
-    case TINYGLTF_TYPE_SCALAR: return "SCALAR";
-    case TINYGLTF_TYPE_VEC2: return "VEC2";
-    case TINYGLTF_TYPE_VEC3: return "VEC3";
-    case TINYGLTF_TYPE_VEC4: return "VEC4";
-    case TINYGLTF_TYPE_MAT2: return "MAT2";
-    case TINYGLTF_TYPE_MAT3: return "MAT3";
-    case TINYGLTF_TYPE_MAT4: return "MAT4";
-    default: return "type " + std::to_string(type);
+    case TINYGLTF_TYPE_SCALAR:
+      return "SCALAR";
+    case TINYGLTF_TYPE_VEC2:
+      return "VEC2";
+    case TINYGLTF_TYPE_VEC3:
+      return "VEC3";
+    case TINYGLTF_TYPE_VEC4:
+      return "VEC4";
+    case TINYGLTF_TYPE_MAT2:
+      return "MAT2";
+    case TINYGLTF_TYPE_MAT3:
+      return "MAT3";
+    case TINYGLTF_TYPE_MAT4:
+      return "MAT4";
+    default:
+      return "type " + std::to_string(type);
   }
 }
 
@@ -133,7 +153,8 @@ Layout layout_of(const ModelRef& m, int index, const std::string& what, const Re
 
 std::uint32_t read_unsigned(const unsigned char* p, int component_type) {
   switch (component_type) {
-    case kUByte: return p[0];
+    case kUByte:
+      return p[0];
     case kUShort: {
       std::uint16_t v;
       std::memcpy(&v, p, 2);
@@ -150,8 +171,10 @@ std::uint32_t read_unsigned(const unsigned char* p, int component_type) {
 // glTF 2.0 spec, "Animations" / "Meshes": normalized unsigned integers map c to c / max.
 float read_component(const unsigned char* p, int component_type) {
   switch (component_type) {
-    case kUByte: return float(p[0]) / 255.0f;
-    case kUShort: return float(read_unsigned(p, kUShort)) / 65535.0f;
+    case kUByte:
+      return float(p[0]) / 255.0f;
+    case kUShort:
+      return float(read_unsigned(p, kUShort)) / 65535.0f;
     default: {
       float v;
       std::memcpy(&v, p, 4);
@@ -265,7 +288,8 @@ std::vector<std::uint32_t> read_indices(const ModelRef& m, int accessor, const s
   std::vector<std::uint32_t> out(l.count, 0u);
   if (l.base)
     for (std::size_t k = 0; k < l.count; ++k) out[k] = read_unsigned(l.base + k * l.stride, ctype);
-  apply_sparse(m, accessor, what, l, [&](std::uint32_t k, const unsigned char* p) { out[k] = read_unsigned(p, ctype); });
+  apply_sparse(m, accessor, what, l,
+               [&](std::uint32_t k, const unsigned char* p) { out[k] = read_unsigned(p, ctype); });
   return out;
 }
 

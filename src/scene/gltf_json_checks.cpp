@@ -5,7 +5,6 @@
 #include <cstdint>
 #include <cstring>
 #include <initializer_list>
-
 #include <nlohmann/json.hpp>
 
 #include "scene/scene_error.h"
@@ -28,16 +27,26 @@ struct Field {
 
 const char* kind_name(Kind kind) {
   switch (kind) {
-    case Kind::Index: return "a non-negative integer (an index)";
-    case Kind::Size: return "a non-negative integer";
-    case Kind::Integer: return "an integer";
-    case Kind::Number: return "a number";
-    case Kind::Bool: return "a boolean";
-    case Kind::String: return "a string";
-    case Kind::Object: return "an object";
-    case Kind::NumberArray: return "an array of numbers";
-    case Kind::IndexArray: return "an array of non-negative integers";
-    case Kind::StringArray: return "an array of strings";
+    case Kind::Index:
+      return "a non-negative integer (an index)";
+    case Kind::Size:
+      return "a non-negative integer";
+    case Kind::Integer:
+      return "an integer";
+    case Kind::Number:
+      return "a number";
+    case Kind::Bool:
+      return "a boolean";
+    case Kind::String:
+      return "a string";
+    case Kind::Object:
+      return "an object";
+    case Kind::NumberArray:
+      return "an array of numbers";
+    case Kind::IndexArray:
+      return "an array of non-negative integers";
+    case Kind::StringArray:
+      return "an array of strings";
   }
   return "?";
 }
@@ -57,16 +66,26 @@ bool all_of(const json& v, bool (*pred)(const json&)) {
 
 bool matches(const json& v, Kind kind) {
   switch (kind) {
-    case Kind::Index: return is_index(v);
-    case Kind::Size: return v.is_number_unsigned() || (v.is_number_integer() && v.get<std::int64_t>() >= 0);
-    case Kind::Integer: return v.is_number_integer();
-    case Kind::Number: return v.is_number();
-    case Kind::Bool: return v.is_boolean();
-    case Kind::String: return v.is_string();
-    case Kind::Object: return v.is_object();
-    case Kind::NumberArray: return all_of(v, [](const json& e) { return e.is_number(); });
-    case Kind::IndexArray: return all_of(v, is_index);
-    case Kind::StringArray: return all_of(v, [](const json& e) { return e.is_string(); });
+    case Kind::Index:
+      return is_index(v);
+    case Kind::Size:
+      return v.is_number_unsigned() || (v.is_number_integer() && v.get<std::int64_t>() >= 0);
+    case Kind::Integer:
+      return v.is_number_integer();
+    case Kind::Number:
+      return v.is_number();
+    case Kind::Bool:
+      return v.is_boolean();
+    case Kind::String:
+      return v.is_string();
+    case Kind::Object:
+      return v.is_object();
+    case Kind::NumberArray:
+      return all_of(v, [](const json& e) { return e.is_number(); });
+    case Kind::IndexArray:
+      return all_of(v, is_index);
+    case Kind::StringArray:
+      return all_of(v, [](const json& e) { return e.is_string(); });
   }
   return false;
 }
@@ -83,7 +102,8 @@ class Checker {
   void fields(const json& obj, const std::string& path, std::initializer_list<Field> list) const {
     for (const Field& f : list) {
       const auto it = obj.find(f.key);
-      if (it != obj.end() && !matches(*it, f.kind)) fail(path + "." + f.key, std::string("must be ") + kind_name(f.kind));
+      if (it != obj.end() && !matches(*it, f.kind))
+        fail(path + "." + f.key, std::string("must be ") + kind_name(f.kind));
     }
   }
 
@@ -117,7 +137,8 @@ class Checker {
 
   void texture_info(const json& obj, const std::string& path, const char* key) const {
     object(obj, path, key, [&](const json& t, const std::string& p) {
-      fields(t, p, {{"index", Kind::Index}, {"texCoord", Kind::Index}, {"scale", Kind::Number}, {"strength", Kind::Number}});
+      fields(t, p,
+             {{"index", Kind::Index}, {"texCoord", Kind::Index}, {"scale", Kind::Number}, {"strength", Kind::Number}});
     });
   }
 
@@ -136,15 +157,24 @@ void check_extensions_required(const std::string& file, const json& doc) {
 }
 
 void check_document(const Checker& c, const json& doc) {
-  c.fields(doc, "(root)", {{"scene", Kind::Index}, {"extensionsRequired", Kind::StringArray},
-                           {"extensionsUsed", Kind::StringArray}, {"asset", Kind::Object}});
+  c.fields(doc, "(root)",
+           {{"scene", Kind::Index},
+            {"extensionsRequired", Kind::StringArray},
+            {"extensionsUsed", Kind::StringArray},
+            {"asset", Kind::Object}});
   c.objects(doc, "", "scenes", false, [&](const json& s, const std::string& p) {
     c.fields(s, p, {{"nodes", Kind::IndexArray}});
   });
   c.objects(doc, "", "nodes", false, [&](const json& n, const std::string& p) {
-    c.fields(n, p, {{"mesh", Kind::Index}, {"camera", Kind::Index}, {"skin", Kind::Index},
-                    {"children", Kind::IndexArray}, {"matrix", Kind::NumberArray}, {"translation", Kind::NumberArray},
-                    {"rotation", Kind::NumberArray}, {"scale", Kind::NumberArray}});
+    c.fields(n, p,
+             {{"mesh", Kind::Index},
+              {"camera", Kind::Index},
+              {"skin", Kind::Index},
+              {"children", Kind::IndexArray},
+              {"matrix", Kind::NumberArray},
+              {"translation", Kind::NumberArray},
+              {"rotation", Kind::NumberArray},
+              {"scale", Kind::NumberArray}});
     c.object(n, p, "extensions", [&](const json& e, const std::string& ep) {
       c.object(e, ep, "KHR_lights_punctual", [&](const json& l, const std::string& lp) {
         c.fields(l, lp, {{"light", Kind::Index}});
@@ -162,12 +192,19 @@ void check_document(const Checker& c, const json& doc) {
     });
   });
   c.objects(doc, "", "accessors", false, [&](const json& a, const std::string& p) {
-    c.fields(a, p, {{"bufferView", Kind::Index}, {"byteOffset", Kind::Size}, {"count", Kind::Size},
-                    {"componentType", Kind::Index}, {"normalized", Kind::Bool}, {"type", Kind::String}});
+    c.fields(a, p,
+             {{"bufferView", Kind::Index},
+              {"byteOffset", Kind::Size},
+              {"count", Kind::Size},
+              {"componentType", Kind::Index},
+              {"normalized", Kind::Bool},
+              {"type", Kind::String}});
     c.object(a, p, "sparse", [&](const json& s, const std::string& sp) {
       c.fields(s, sp, {{"count", Kind::Index}});  // tinygltf holds it in an int
       c.object(s, sp, "indices", [&](const json& i, const std::string& ip) {
-        c.fields(i, ip, {{"bufferView", Kind::Index}, {"byteOffset", Kind::Index}, {"componentType", Kind::Index}});  // int too
+        c.fields(
+            i, ip,
+            {{"bufferView", Kind::Index}, {"byteOffset", Kind::Index}, {"componentType", Kind::Index}});  // int too
       });
       c.object(s, sp, "values", [&](const json& v, const std::string& vp) {
         c.fields(v, vp, {{"bufferView", Kind::Index}, {"byteOffset", Kind::Index}});
@@ -175,18 +212,24 @@ void check_document(const Checker& c, const json& doc) {
     });
   });
   c.objects(doc, "", "bufferViews", false, [&](const json& v, const std::string& p) {
-    c.fields(v, p, {{"buffer", Kind::Index}, {"byteOffset", Kind::Size}, {"byteLength", Kind::Size},
-                    {"byteStride", Kind::Size}});
+    c.fields(
+        v, p,
+        {{"buffer", Kind::Index}, {"byteOffset", Kind::Size}, {"byteLength", Kind::Size}, {"byteStride", Kind::Size}});
   });
   c.objects(doc, "", "buffers", false, [&](const json& b, const std::string& p) {
     c.fields(b, p, {{"byteLength", Kind::Size}, {"uri", Kind::String}});
   });
   c.objects(doc, "", "materials", false, [&](const json& m, const std::string& p) {
-    c.fields(m, p, {{"alphaMode", Kind::String}, {"alphaCutoff", Kind::Number}, {"doubleSided", Kind::Bool},
-                    {"emissiveFactor", Kind::NumberArray}});
+    c.fields(m, p,
+             {{"alphaMode", Kind::String},
+              {"alphaCutoff", Kind::Number},
+              {"doubleSided", Kind::Bool},
+              {"emissiveFactor", Kind::NumberArray}});
     c.object(m, p, "pbrMetallicRoughness", [&](const json& pbr, const std::string& pp) {
-      c.fields(pbr, pp, {{"baseColorFactor", Kind::NumberArray}, {"metallicFactor", Kind::Number},
-                         {"roughnessFactor", Kind::Number}});
+      c.fields(pbr, pp,
+               {{"baseColorFactor", Kind::NumberArray},
+                {"metallicFactor", Kind::Number},
+                {"roughnessFactor", Kind::Number}});
       c.texture_info(pbr, pp, "baseColorTexture");
       c.texture_info(pbr, pp, "metallicRoughnessTexture");
     });
@@ -198,7 +241,8 @@ void check_document(const Checker& c, const json& doc) {
     c.fields(t, p, {{"sampler", Kind::Index}, {"source", Kind::Index}});
   });
   c.objects(doc, "", "samplers", false, [&](const json& s, const std::string& p) {
-    c.fields(s, p, {{"wrapS", Kind::Index}, {"wrapT", Kind::Index}, {"magFilter", Kind::Index}, {"minFilter", Kind::Index}});
+    c.fields(s, p,
+             {{"wrapS", Kind::Index}, {"wrapT", Kind::Index}, {"magFilter", Kind::Index}, {"minFilter", Kind::Index}});
   });
   c.objects(doc, "", "images", false, [&](const json& i, const std::string& p) {
     c.fields(i, p, {{"bufferView", Kind::Index}, {"uri", Kind::String}, {"mimeType", Kind::String}});
@@ -209,8 +253,12 @@ void check_document(const Checker& c, const json& doc) {
   c.object(doc, "(root)", "extensions", [&](const json& e, const std::string& ep) {
     c.object(e, ep, "KHR_lights_punctual", [&](const json& k, const std::string& kp) {
       c.objects(k, kp, "lights", false, [&](const json& l, const std::string& lp) {
-        c.fields(l, lp, {{"type", Kind::String}, {"color", Kind::NumberArray}, {"intensity", Kind::Number},
-                         {"range", Kind::Number}, {"spot", Kind::Object}});
+        c.fields(l, lp,
+                 {{"type", Kind::String},
+                  {"color", Kind::NumberArray},
+                  {"intensity", Kind::Number},
+                  {"range", Kind::Number},
+                  {"spot", Kind::Object}});
         c.object(l, lp, "spot", [&](const json& s, const std::string& sp) {
           c.fields(s, sp, {{"innerConeAngle", Kind::Number}, {"outerConeAngle", Kind::Number}});
         });
@@ -228,9 +276,12 @@ void check_nesting(const std::string& file, std::string_view text) {
   bool in_string = false, escaped = false;
   for (const char c : text) {
     if (in_string) {
-      if (escaped) escaped = false;
-      else if (c == '\\') escaped = true;
-      else if (c == '"') in_string = false;
+      if (escaped)
+        escaped = false;
+      else if (c == '\\')
+        escaped = true;
+      else if (c == '"')
+        in_string = false;
     } else if (c == '"') {
       in_string = true;
     } else if (c == '[' || c == '{') {
@@ -251,9 +302,8 @@ std::uint32_t read_u32(const unsigned char* p) {
 
 bool extension_supported(std::string_view name) {
   static constexpr std::array<std::string_view, 7> kSupported = {
-      "KHR_lights_punctual",       "KHR_materials_emissive_strength", "KHR_materials_ior",
-      "KHR_materials_transmission", "KHR_materials_specular",         "KHR_texture_transform",
-      "KHR_materials_volume"};
+      "KHR_lights_punctual",    "KHR_materials_emissive_strength", "KHR_materials_ior",   "KHR_materials_transmission",
+      "KHR_materials_specular", "KHR_texture_transform",           "KHR_materials_volume"};
   for (std::string_view s : kSupported)
     if (s == name) return true;
   return false;
@@ -281,8 +331,8 @@ void check_gltf_json(const std::string& file, std::string_view json_text) {
       if (prims == mesh.end() || !prims->is_array()) continue;
       for (std::size_t p = 0; p < prims->size(); ++p)
         if ((*prims)[p].is_object() && !(*prims)[p].contains("attributes"))
-          throw SceneError(file, "missing property: meshes[" + std::to_string(m) + "].primitives[" +
-                                     std::to_string(p) + "].attributes");
+          throw SceneError(file, "missing property: meshes[" + std::to_string(m) + "].primitives[" + std::to_string(p) +
+                                     "].attributes");
     }
   check_document(checker, doc);
 }

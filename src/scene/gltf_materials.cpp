@@ -1,10 +1,10 @@
 #include "scene/gltf_materials.h"
 
-#include <climits>
-#include <cstring>
-
 #include <stb_image.h>
 #include <tiny_gltf.h>
+
+#include <climits>
+#include <cstring>
 
 #include "scene/scene_error.h"
 
@@ -46,7 +46,8 @@ glm::vec3 extension_vec3(const ModelRef& m, const tinygltf::Value& ext, const ch
   bool ok = v.IsArray() && v.ArrayLen() == 3;
   for (int i = 0; ok && i < 3; ++i) ok = v.Get(i).IsNumber();
   if (!ok) throw SceneError(m.file, "wrong JSON type: " + what + "." + key + " must be an array of 3 numbers");
-  return {float(v.Get(0).GetNumberAsDouble()), float(v.Get(1).GetNumberAsDouble()), float(v.Get(2).GetNumberAsDouble())};
+  return {float(v.Get(0).GetNumberAsDouble()), float(v.Get(1).GetNumberAsDouble()),
+          float(v.Get(2).GetNumberAsDouble())};
 }
 
 // The object material.extensions[name], or null when the material does not use it.
@@ -74,20 +75,20 @@ Material convert_material(const ModelRef& m, int index) {
   out.name = g.name;
   if (pbr.baseColorFactor.size() != 4 || g.emissiveFactor.size() != 3)
     throw SceneError(m.file, what + ": baseColorFactor must have 4 numbers and emissiveFactor 3");
-  out.base_color = glm::vec4(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2],
-                             pbr.baseColorFactor[3]);
+  out.base_color =
+      glm::vec4(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2], pbr.baseColorFactor[3]);
   out.base_color_texture =
       texture_ref(m, pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, 1.0, what + " baseColorTexture");
   out.metallic = float(pbr.metallicFactor);
   out.roughness = float(pbr.roughnessFactor);
-  out.metallic_roughness_texture = texture_ref(m, pbr.metallicRoughnessTexture.index,
-                                               pbr.metallicRoughnessTexture.texCoord, 1.0,
-                                               what + " metallicRoughnessTexture");
+  out.metallic_roughness_texture =
+      texture_ref(m, pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord, 1.0,
+                  what + " metallicRoughnessTexture");
   out.emissive_factor = glm::vec3(g.emissiveFactor[0], g.emissiveFactor[1], g.emissiveFactor[2]);
   out.emissive_texture =
       texture_ref(m, g.emissiveTexture.index, g.emissiveTexture.texCoord, 1.0, what + " emissiveTexture");
-  out.normal_texture = texture_ref(m, g.normalTexture.index, g.normalTexture.texCoord, g.normalTexture.scale,
-                                   what + " normalTexture");
+  out.normal_texture =
+      texture_ref(m, g.normalTexture.index, g.normalTexture.texCoord, g.normalTexture.scale, what + " normalTexture");
   out.occlusion_texture = texture_ref(m, g.occlusionTexture.index, g.occlusionTexture.texCoord,
                                       g.occlusionTexture.strength, what + " occlusionTexture");
   out.alpha_mode = alpha_mode(m, g.alphaMode, what);
@@ -96,13 +97,13 @@ Material convert_material(const ModelRef& m, int index) {
 
   const std::string json_path = "materials[" + std::to_string(index) + "]";
   if (const auto* ext = extension_object(m, g, "KHR_materials_emissive_strength", json_path))
-    out.emissive_strength = extension_number(m, *ext, "emissiveStrength", 1.0f,
-                                             json_path + ".extensions.KHR_materials_emissive_strength");
+    out.emissive_strength =
+        extension_number(m, *ext, "emissiveStrength", 1.0f, json_path + ".extensions.KHR_materials_emissive_strength");
   if (const auto* ext = extension_object(m, g, "KHR_materials_ior", json_path))
     out.ior = extension_number(m, *ext, "ior", 1.5f, json_path + ".extensions.KHR_materials_ior");
   if (const auto* ext = extension_object(m, g, "KHR_materials_transmission", json_path))
-    out.transmission = extension_number(m, *ext, "transmissionFactor", 0.0f,
-                                        json_path + ".extensions.KHR_materials_transmission");
+    out.transmission =
+        extension_number(m, *ext, "transmissionFactor", 0.0f, json_path + ".extensions.KHR_materials_transmission");
   if (const auto* ext = extension_object(m, g, "KHR_materials_specular", json_path)) {
     const std::string ext_path = json_path + ".extensions.KHR_materials_specular";
     out.specular = extension_number(m, *ext, "specularFactor", 1.0f, ext_path);
@@ -161,9 +162,8 @@ void read_textures_and_images(const ModelRef& m, Scene& scene) {
                                    std::to_string(m.model.images.size()) + " images)");
     out.image = t.source < 0 ? -1 : t.source;
     if (t.sampler >= int(m.model.samplers.size()))
-      throw SceneError(m.file, what + ": sampler index " + std::to_string(t.sampler) +
-                                   " out of range (the file has " + std::to_string(m.model.samplers.size()) +
-                                   " samplers)");
+      throw SceneError(m.file, what + ": sampler index " + std::to_string(t.sampler) + " out of range (the file has " +
+                                   std::to_string(m.model.samplers.size()) + " samplers)");
     if (t.sampler >= 0) {
       const tinygltf::Sampler& s = m.model.samplers[std::size_t(t.sampler)];
       out.wrap_s = s.wrapS;

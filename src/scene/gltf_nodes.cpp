@@ -1,12 +1,12 @@
 #include "scene/gltf_nodes.h"
 
-#include <cmath>
-#include <utility>
+#include <tiny_gltf.h>
 
+#include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
-#include <glm/gtc/matrix_transform.hpp>
-#include <tiny_gltf.h>
+#include <utility>
 
 #include "scene/scene_error.h"
 
@@ -28,14 +28,15 @@ glm::dmat4 local_transform(const ModelRef& m, int index) {
   }
   auto check_size = [&](const std::vector<double>& v, std::size_t size, const char* key) {
     if (!v.empty() && v.size() != size)
-      throw SceneError(m.file, what + ": " + key + " has " + std::to_string(v.size()) + " numbers, not " +
-                                   std::to_string(size));
+      throw SceneError(
+          m.file, what + ": " + key + " has " + std::to_string(v.size()) + " numbers, not " + std::to_string(size));
   };
   check_size(n.translation, 3, "translation");
   check_size(n.rotation, 4, "rotation");
   check_size(n.scale, 3, "scale");
   glm::dmat4 t(1.0), r(1.0), s(1.0);
-  if (!n.translation.empty()) t = glm::translate(glm::dmat4(1.0), glm::dvec3(n.translation[0], n.translation[1], n.translation[2]));
+  if (!n.translation.empty())
+    t = glm::translate(glm::dmat4(1.0), glm::dvec3(n.translation[0], n.translation[1], n.translation[2]));
   if (!n.rotation.empty()) {
     glm::dquat q(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2]);  // glm takes (w, x, y, z)
     const double len = glm::length(q);
@@ -57,7 +58,8 @@ std::vector<int> parents_of(const ModelRef& m) {
       if (c < 0 || std::size_t(c) >= count)
         throw SceneError(m.file, node_name(int(i)) + ": child index " + std::to_string(c) +
                                      " out of range (the file has " + std::to_string(count) + " nodes)");
-      if (std::size_t(c) == i) throw SceneError(m.file, "node hierarchy has a cycle: node " + std::to_string(c) + " is its own child");
+      if (std::size_t(c) == i)
+        throw SceneError(m.file, "node hierarchy has a cycle: node " + std::to_string(c) + " is its own child");
       if (parent[std::size_t(c)] != -1)
         throw SceneError(m.file, "node hierarchy is not a tree: node " + std::to_string(c) +
                                      " is a child of both node " + std::to_string(parent[std::size_t(c)]) +

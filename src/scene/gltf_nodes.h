@@ -1,9 +1,8 @@
 // The glTF node hierarchy: validation and world transforms.
 #pragma once
 
-#include <vector>
-
 #include <glm/mat4x4.hpp>
+#include <vector>
 
 #include "scene/gltf_accessors.h"
 

@@ -1,13 +1,13 @@
 #include "scene/gltf_primitives.h"
 
+#include <tiny_gltf.h>
+
 #include <array>
 #include <cstdint>
-#include <iostream>
-#include <utility>
-
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
-#include <tiny_gltf.h>
+#include <iostream>
+#include <utility>
 
 #include "scene/scene_error.h"
 
@@ -103,9 +103,12 @@ std::vector<std::uint32_t> vertex_numbers(const ModelRef& m, const tinygltf::Pri
 // vertices, keeping the winding); fans p_t = {t+1, t+2, 0}.
 std::array<std::size_t, 3> triangle_corners(int mode, std::size_t t) {
   switch (mode) {
-    case TINYGLTF_MODE_TRIANGLE_STRIP: return {t, t + 1 + t % 2, t + 2 - t % 2};
-    case TINYGLTF_MODE_TRIANGLE_FAN: return {t + 1, t + 2, 0};
-    default: return {3 * t, 3 * t + 1, 3 * t + 2};
+    case TINYGLTF_MODE_TRIANGLE_STRIP:
+      return {t, t + 1 + t % 2, t + 2 - t % 2};
+    case TINYGLTF_MODE_TRIANGLE_FAN:
+      return {t + 1, t + 2, 0};
+    default:
+      return {3 * t, 3 * t + 1, 3 * t + 2};
   }
 }
 
@@ -158,8 +161,8 @@ void PrimitiveEmitter::emit_primitive(int mesh, int primitive, const glm::dmat4&
   std::size_t triangles = 0;
   if (mode == TINYGLTF_MODE_TRIANGLES) {
     if (n % 3 != 0)
-      throw SceneError(m_.file, what + ": TRIANGLES primitive has " + std::to_string(n) +
-                                    " vertices, not a multiple of 3");
+      throw SceneError(m_.file,
+                       what + ": TRIANGLES primitive has " + std::to_string(n) + " vertices, not a multiple of 3");
     triangles = n / 3;
   } else {
     triangles = n >= 3 ? n - 2 : 0;
@@ -186,8 +189,7 @@ void PrimitiveEmitter::emit_primitive(int mesh, int primitive, const glm::dmat4&
     if (!v.normals.empty()) attribs.normals = nrm;
     if (!v.texcoords.empty()) attribs.texcoords = uv;
     if (!v.tangents.empty()) attribs.tangents = tan;
-    if (next_source_id_ == UINT32_MAX)
-      throw SceneError(m_.file, "too many triangles: source ids are 32-bit");
+    if (next_source_id_ == UINT32_MAX) throw SceneError(m_.file, "too many triangles: source ids are 32-bit");
     builder_.add_triangle(p, material, next_source_id_++, attribs);
   }
 }

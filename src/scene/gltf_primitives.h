@@ -2,9 +2,8 @@
 #pragma once
 
 #include <cstdint>
-#include <optional>
-
 #include <glm/mat4x4.hpp>
+#include <optional>
 
 #include "scene/gltf_accessors.h"
 #include "scene/scene_builder.h"

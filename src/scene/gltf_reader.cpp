@@ -3,19 +3,19 @@
 // (gltf_accessors, gltf_nodes, gltf_materials) since tinygltf trusts most of them.
 #include "scene/gltf_reader.h"
 
+#include <tiny_gltf.h>
+
 #include <algorithm>
 #include <cctype>
 #include <climits>
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <glm/geometric.hpp>
 #include <iostream>
 #include <iterator>
 #include <numbers>
 #include <system_error>
-
-#include <glm/geometric.hpp>
-#include <tiny_gltf.h>
 
 #include "scene/gltf_json_checks.h"
 #include "scene/gltf_materials.h"
@@ -74,9 +74,9 @@ tinygltf::Model load_model(const std::filesystem::path& path, const std::string&
   if (lower_extension(path) == ".glb" && !binary)
     throw SceneError(file, bytes.size() < 4 ? "truncated binary glTF: shorter than its magic"
                                             : "not a binary glTF file (bad magic, expected 'glTF')");
-  const std::string_view json_text =
-      binary ? gltf::glb_json_chunk(file, bytes)
-             : std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  const std::string_view json_text = binary
+                                         ? gltf::glb_json_chunk(file, bytes)
+                                         : std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   gltf::check_gltf_json(file, json_text);
 
   tinygltf::TinyGLTF loader;
@@ -103,8 +103,7 @@ tinygltf::Model load_model(const std::filesystem::path& path, const std::string&
 void add_camera(const ModelRef& m, int node, int camera, const glm::dmat4& world, Scene& scene) {
   if (camera < 0 || std::size_t(camera) >= m.model.cameras.size())
     throw SceneError(m.file, "node " + std::to_string(node) + ": camera index " + std::to_string(camera) +
-                                 " out of range (the file has " + std::to_string(m.model.cameras.size()) +
-                                 " cameras)");
+                                 " out of range (the file has " + std::to_string(m.model.cameras.size()) + " cameras)");
   const tinygltf::Camera& c = m.model.cameras[std::size_t(camera)];
   const std::string what = "camera " + std::to_string(camera);
   if (c.type != "perspective") {
@@ -113,7 +112,8 @@ void add_camera(const ModelRef& m, int node, int camera, const glm::dmat4& world
     return;
   }
   const double yfov = c.perspective.yfov;
-  if (!(yfov > 0.0 && yfov < std::numbers::pi)) throw SceneError(m.file, what + ": yfov must be between 0 and pi radians");
+  if (!(yfov > 0.0 && yfov < std::numbers::pi))
+    throw SceneError(m.file, what + ": yfov must be between 0 and pi radians");
   const double aspect = c.perspective.aspectRatio;  // tinygltf: 0 when absent
   if (!(aspect >= 0.0) || !std::isfinite(aspect)) throw SceneError(m.file, what + ": aspectRatio must be positive");
   CameraDesc desc;

@@ -1,10 +1,10 @@
 // glTF reader: materials and their extensions, textures and images, cameras,
 // KHR_lights_punctual, and the same content through .gltf (data URI and external
 // .bin) and .glb.
-#include <cmath>
-
-#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
+
+#include <cmath>
+#include <glm/geometric.hpp>
 
 #include "scene/gltf_reader.h"
 #include "scene/gltf_test_files.h"
@@ -143,11 +143,12 @@ TEST_F(GltfContent, MaterialsExtensionsTexturesAndImages) {
 TEST_F(GltfContent, PerspectiveCamerasInTraversalOrder) {
   GltfBuilder b;
   const double h = std::sqrt(0.5);
-  b.push("cameras", {{"type", "perspective"}, {"name", "main"},
+  b.push("cameras", {{"type", "perspective"},
+                     {"name", "main"},
                      {"perspective", {{"yfov", 0.5}, {"aspectRatio", 1.5}, {"znear", 0.1}}}});
   b.push("cameras", {{"type", "perspective"}, {"perspective", {{"yfov", 0.9}, {"znear", 0.01}}}});
-  b.push("cameras", {{"type", "orthographic"},
-                     {"orthographic", {{"xmag", 1.0}, {"ymag", 1.0}, {"znear", 0.1}, {"zfar", 10.0}}}});
+  b.push("cameras",
+         {{"type", "orthographic"}, {"orthographic", {{"xmag", 1.0}, {"ymag", 1.0}, {"znear", 0.1}, {"zfar", 10.0}}}});
   const int second = b.add_node({{"camera", 1}, {"name", "second"}});
   const int ortho = b.add_node({{"camera", 2}});
   // 90 degrees about +y turns the view direction -z into -x.

@@ -1,9 +1,9 @@
 // glTF reader on bad input: every case must throw SceneError naming the file and
 // saying what is wrong, never crash, hang or allocate without bound.
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <limits>
-
-#include <gtest/gtest.h>
 
 #include "scene/gltf_reader.h"
 #include "scene/gltf_test_files.h"
@@ -142,9 +142,21 @@ TEST_F(GltfErrors, IndicesAndReferencesOutOfRange) {
       {"child", [](json& d) { d["nodes"][0]["children"] = {7}; }, "child index 7 out of range"},
       {"scene node", [](json& d) { d["scenes"][0]["nodes"] = {7}; }, "node index 7 out of range"},
       {"default scene", [](json& d) { d["scene"] = 3; }, "default scene 3 out of range"},
-      {"texture", [](json& d) { d["materials"] = {{{"emissiveTexture", {{"index", 4}}}}}; }, "texture index 4"},
-      {"image", [](json& d) { d["textures"] = {{{"source", 2}}}; }, "image index 2 out of range"},
-      {"sampler", [](json& d) { d["textures"] = {{{"sampler", 2}}}; }, "sampler index 2 out of range"},
+      {"texture",
+       [](json& d) {
+         d["materials"] = {{{"emissiveTexture", {{"index", 4}}}}};
+       },
+       "texture index 4"},
+      {"image",
+       [](json& d) {
+         d["textures"] = {{{"source", 2}}};
+       },
+       "image index 2 out of range"},
+      {"sampler",
+       [](json& d) {
+         d["textures"] = {{{"sampler", 2}}};
+       },
+       "sampler index 2 out of range"},
       {"light", [](json& d) { d["nodes"][0]["extensions"]["KHR_lights_punctual"]["light"] = 3; },
        "light index 3 out of range"},
   };
@@ -231,7 +243,7 @@ TEST_F(GltfErrors, BadSparseAccessors) {
   auto sparse_triangle = [](int count, std::uint16_t target, std::size_t value_bytes) {
     GltfBuilder b = base_triangle();
     const std::vector<std::uint16_t> which = {target, target};
-    const std::vector<float> values(6, 1.0f);
+    const std::vector<float> values(9, 1.0f);  // room for the largest value_bytes below
     b.doc["accessors"][0]["sparse"] = {
         {"count", count},
         {"indices", {{"bufferView", b.add_view(which.data(), 4)}, {"componentType", GltfBuilder::kUShort}}},
@@ -285,13 +297,26 @@ TEST_F(GltfErrors, BadPrimitivesMaterialsImagesCamerasAndLights) {
   const Case cases[] = {
       {"mode", [](json& d) { d["meshes"][0]["primitives"][0]["mode"] = 9; }, "unknown primitive mode 9"},
       {"triangle count", [](json& d) { d["accessors"][1]["count"] = 2; }, "2 vertices, not a multiple of 3"},
-      {"alphaMode", [](json& d) { d["materials"] = {{{"alphaMode", "SHINY"}}}; }, "unknown alphaMode 'SHINY'"},
+      {"alphaMode",
+       [](json& d) {
+         d["materials"] = {{{"alphaMode", "SHINY"}}};
+       },
+       "unknown alphaMode 'SHINY'"},
       {"extension type",
-       [](json& d) { d["materials"] = {{{"extensions", {{"KHR_materials_ior", {{"ior", "high"}}}}}}}; },
+       [](json& d) {
+         d["materials"] = {{{"extensions", {{"KHR_materials_ior", {{"ior", "high"}}}}}}};
+       },
        "wrong JSON type: materials[0].extensions.KHR_materials_ior.ior must be a number"},
       {"image data",
-       [](json& d) { d["images"] = {{{"uri", "data:image/png;base64,AAECAwQFBgcICQ=="}}}; }, "cannot be decoded"},
-      {"image file", [](json& d) { d["images"] = {{{"uri", "no_such_image.png"}}}; }, "could not be read"},
+       [](json& d) {
+         d["images"] = {{{"uri", "data:image/png;base64,AAECAwQFBgcICQ=="}}};
+       },
+       "cannot be decoded"},
+      {"image file",
+       [](json& d) {
+         d["images"] = {{{"uri", "no_such_image.png"}}};
+       },
+       "could not be read"},
       {"yfov",
        [](json& d) {
          d["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", -1.0}, {"znear", 0.1}}}}};
@@ -311,8 +336,16 @@ TEST_F(GltfErrors, BadPrimitivesMaterialsImagesCamerasAndLights) {
          d["nodes"][0]["extensions"]["KHR_lights_punctual"]["light"] = 0;
        },
        "cone angles"},
-      {"matrix size", [](json& d) { d["nodes"][0]["matrix"] = {1, 0, 0}; }, "matrix has 3 numbers, not 16"},
-      {"rotation", [](json& d) { d["nodes"][0]["rotation"] = {0, 0, 0, 0}; }, "rotation quaternion"},
+      {"matrix size",
+       [](json& d) {
+         d["nodes"][0]["matrix"] = {1, 0, 0};
+       },
+       "matrix has 3 numbers, not 16"},
+      {"rotation",
+       [](json& d) {
+         d["nodes"][0]["rotation"] = {0, 0, 0, 0};
+       },
+       "rotation quaternion"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.what);
@@ -332,15 +365,20 @@ TEST_F(GltfErrors, MalformedGlbContainers) {
   };
   expect_error(write_variant("v1.glb", [](std::vector<unsigned char>& v) { v[4] = 1; }), "version 1");
   expect_error(write_variant("len.glb", [](std::vector<unsigned char>& v) { v[11] = 0x7f; }), "truncated");
-  expect_error(write_variant("json.glb", [](std::vector<unsigned char>& v) { v[15] = 0x7f; }),
-               "JSON chunk runs past");
+  expect_error(write_variant("json.glb", [](std::vector<unsigned char>& v) { v[15] = 0x7f; }), "JSON chunk runs past");
   expect_error(write_variant("type.glb", [](std::vector<unsigned char>& v) { v[16] = 'X'; }), "not JSON");
   // A buffer claiming more bytes than the BIN chunk holds (reported by tinygltf).
   GltfBuilder c = base_triangle();
   std::vector<unsigned char> glb = c.glb_bytes();
   // Shrink the BIN chunk by 4 bytes: the chunk length and total length both drop.
-  auto put32 = [&](std::size_t at, std::uint32_t v) { for (int k = 0; k < 4; ++k) glb[at + std::size_t(k)] = (v >> (8 * k)) & 255; };
-  auto get32 = [&](std::size_t at) { std::uint32_t v = 0; for (int k = 3; k >= 0; --k) v = v << 8 | glb[at + std::size_t(k)]; return v; };
+  auto put32 = [&](std::size_t at, std::uint32_t v) {
+    for (int k = 0; k < 4; ++k) glb[at + std::size_t(k)] = (v >> (8 * k)) & 255;
+  };
+  auto get32 = [&](std::size_t at) {
+    std::uint32_t v = 0;
+    for (int k = 3; k >= 0; --k) v = v << 8 | glb[at + std::size_t(k)];
+    return v;
+  };
   const std::size_t bin_header = 20 + get32(12);
   put32(bin_header, get32(bin_header) - 4);
   put32(8, get32(8) - 4);

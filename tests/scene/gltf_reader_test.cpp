@@ -2,14 +2,15 @@
 // transforms, attributes, materials, cameras, lights and the three containers
 // (.gltf with a data URI, .gltf with an external .bin, .glb). Bad input is covered in
 // gltf_reader_errors_test.cpp.
-#include <cmath>
+#include "scene/gltf_reader.h"
 
-#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
-#include "scene/gltf_reader.h"
-#include "scene/scene_error.h"
+#include <cmath>
+#include <glm/geometric.hpp>
+
 #include "scene/gltf_test_files.h"
+#include "scene/scene_error.h"
 
 namespace lancer {
 namespace {
@@ -128,8 +129,8 @@ TEST_F(GltfReader, TrsAndMatrixComposeThroughHierarchy) {
   // child: matrix translating by (1, 0, 0), column-major.
   const int child = b.add_node({{"mesh", mesh}, {"matrix", {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 1, 0, 0, 1}}});
   // parent: T(10, 0, 0) * R(90 deg about z) * S(2).
-  const int parent = b.add_node({{"translation", {10, 0, 0}}, {"rotation", {0, 0, h, h}}, {"scale", {2, 2, 2}},
-                                 {"children", {child}}});
+  const int parent = b.add_node(
+      {{"translation", {10, 0, 0}}, {"rotation", {0, 0, h, h}}, {"scale", {2, 2, 2}}, {"children", {child}}});
   b.set_scene({parent});
   b.write_data_uri_gltf(path("h.gltf"));
   const Scene s = read_gltf(path("h.gltf"));
@@ -269,12 +270,15 @@ TEST_F(GltfReader, SparseAccessors) {
   // No bufferView: zeros, then elements 0 and 2 substituted (element 1 stays 0).
   const std::vector<std::uint8_t> which2 = {0, 2};
   const std::vector<glm::vec3> values2 = {{1, 0, 3}, {0, 1, 3}};
-  const int zero = b.push("accessors", {{"componentType", GltfBuilder::kFloat}, {"count", 3}, {"type", "VEC3"},
-                                        {"sparse",
-                                         {{"count", 2},
-                                          {"indices", {{"bufferView", b.add_view(which2.data(), 2)},
-                                                       {"componentType", GltfBuilder::kUByte}}},
-                                          {"values", {{"bufferView", b.add_view(values2.data(), 24)}}}}}});
+  const int zero =
+      b.push("accessors",
+             {{"componentType", GltfBuilder::kFloat},
+              {"count", 3},
+              {"type", "VEC3"},
+              {"sparse",
+               {{"count", 2},
+                {"indices", {{"bufferView", b.add_view(which2.data(), 2)}, {"componentType", GltfBuilder::kUByte}}},
+                {"values", {{"bufferView", b.add_view(values2.data(), 24)}}}}}});
   const int m1 = b.add_mesh({{"POSITION", base}});
   const int m2 = b.add_mesh({{"POSITION", zero}});
   b.set_scene({b.add_node({{"mesh", m1}}), b.add_node({{"mesh", m2}})});

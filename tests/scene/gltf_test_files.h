@@ -3,20 +3,20 @@
 // Fixtures live here rather than as checked-in binaries.
 #pragma once
 
+#include <gtest/gtest.h>
+#include <unistd.h>
+
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <string>
-#include <vector>
-
 #include <glm/gtc/type_precision.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
-#include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
-#include <unistd.h>
+#include <string>
+#include <vector>
 
 namespace lancer::gltf_test {
 
@@ -62,7 +62,9 @@ inline std::vector<unsigned char> make_bmp(int width, int height, const std::vec
   const int row = (width * 3 + 3) / 4 * 4;
   const std::uint32_t size = std::uint32_t(54 + row * height);
   std::vector<unsigned char> out(size, 0);
-  auto put32 = [&](std::size_t at, std::uint32_t v) { for (int k = 0; k < 4; ++k) out[at + std::size_t(k)] = (v >> (8 * k)) & 255; };
+  auto put32 = [&](std::size_t at, std::uint32_t v) {
+    for (int k = 0; k < 4; ++k) out[at + std::size_t(k)] = (v >> (8 * k)) & 255;
+  };
   out[0] = 'B';
   out[1] = 'M';
   put32(2, size);
@@ -170,7 +172,9 @@ class GltfBuilder {
     std::vector<unsigned char> payload = bin;
     while (payload.size() % 4 != 0) payload.push_back(0);
     std::vector<unsigned char> out;
-    auto put32 = [&](std::uint32_t v) { for (int k = 0; k < 4; ++k) out.push_back((v >> (8 * k)) & 255); };
+    auto put32 = [&](std::uint32_t v) {
+      for (int k = 0; k < 4; ++k) out.push_back((v >> (8 * k)) & 255);
+    };
     const std::size_t total = 12 + 8 + text.size() + (payload.empty() ? 0 : 8 + payload.size());
     out.reserve(total);
     for (char c : std::string("glTF")) out.push_back(static_cast<unsigned char>(c));

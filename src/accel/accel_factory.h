@@ -1,19 +1,27 @@
-// Builds an accelerator by name (`--accel`), so the program and the benchmarks pick one
-// without knowing the concrete classes.
+// Builds an accelerator by name (`--accel`, `--kd-split`), so the program and the
+// benchmarks pick one without knowing the concrete classes.
 #pragma once
 
 #include <memory>
+#include <optional>
 #include <string_view>
 #include <vector>
 
 #include "accel/accelerator.h"
+#include "accel/kd_build.h"
 
 namespace lancer {
 
 // Names accepted by make_accelerator, the default first.
 std::vector<std::string_view> accelerator_names();
 
+std::vector<std::string_view> kd_split_names();
+std::string_view kd_split_name(KdSplit split);
+std::optional<KdSplit> parse_kd_split(std::string_view name);
+
 // Throws std::invalid_argument for an unknown name. `tris` must outlive the result.
-std::unique_ptr<Accelerator> make_accelerator(std::string_view name, const TriangleSoA& tris);
+// `kd` applies to the kd-tree only.
+std::unique_ptr<Accelerator> make_accelerator(std::string_view name, const TriangleSoA& tris,
+                                              const KdBuildOptions& kd = {});
 
 }  // namespace lancer

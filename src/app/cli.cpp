@@ -24,6 +24,13 @@ void add_vec3_option(CLI::App& app, const std::string& name, std::optional<glm::
       ->type_name("X,Y,Z");
 }
 
+void add_kd_split_option(CLI::App& app, std::string& split) {
+  std::vector<std::string> names;
+  for (auto n : kd_split_names()) names.emplace_back(n);
+  app.add_option("--kd-split", split, "kd-tree split strategy: sah, or the naive middle and median")
+      ->check(CLI::IsMember(names))->capture_default_str();
+}
+
 void add_render_command(CLI::App& app, RenderOptions& opt) {
   CLI::App* render = app.add_subcommand("render", "Render a scene to image files");
   render->add_option("scene", opt.scene, "Scene file (.gltf, .glb or .obj)")->required();
@@ -49,7 +56,9 @@ void add_render_command(CLI::App& app, RenderOptions& opt) {
   render->add_option("--seed", s.seed, "Random seed; the image depends only on it, not on threads")->capture_default_str();
   std::vector<std::string> accels;
   for (auto n : accelerator_names()) accels.emplace_back(n);
-  render->add_option("--accel", opt.accel, "Accelerator")->check(CLI::IsMember(accels))->capture_default_str();
+  render->add_option("--accel", opt.accel, "Accelerator: kdtree, or brute (the scalar oracle)")
+      ->check(CLI::IsMember(accels))->capture_default_str();
+  add_kd_split_option(*render, opt.kd_split);
   render->add_option("--camera", opt.camera, "Index of the scene camera to use")->check(CLI::NonNegativeNumber);
   add_vec3_option(*render, "--eye", opt.eye, "Camera position (overrides the scene camera)");
   add_vec3_option(*render, "--look-at", opt.look_at, "Point the camera looks at");
@@ -64,6 +73,7 @@ void add_info_command(CLI::App& app, InfoOptions& opt) {
   std::vector<std::string> accels;
   for (auto n : accelerator_names()) accels.emplace_back(n);
   info->add_option("--accel", opt.accel, "Accelerator to build and describe")->check(CLI::IsMember(accels))->capture_default_str();
+  add_kd_split_option(*info, opt.kd_split);
 }
 
 }  // namespace

@@ -6,6 +6,9 @@
 #include <ostream>
 
 #include "accel/accel_factory.h"
+#include "accel/kd_stats.h"
+#include "accel/kd_tree.h"
+#include "app/render_command.h"
 #include "scene/load_scene.h"
 
 namespace lancer {
@@ -30,12 +33,17 @@ int run_info(const InfoOptions& opt, std::ostream& out, std::ostream& err) {
     out << line;
 
     const auto t0 = std::chrono::steady_clock::now();
-    const std::unique_ptr<Accelerator> accel = make_accelerator(opt.accel, scene.triangles);
+    const std::unique_ptr<Accelerator> accel =
+        make_accelerator(opt.accel, scene.triangles, kd_options_from(opt.kd_split));
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
-    std::snprintf(line, sizeof line, "accel:      %s, built in %.1f ms, %zu bytes (%.1f bytes/triangle)\n",
-                  std::string(accel->name()).c_str(), ms, accel->memory_bytes(),
-                  static_cast<double>(accel->memory_bytes()) / static_cast<double>(scene.triangle_count()));
-    out << line;
+    if (const auto* kd = dynamic_cast<const KdTree*>(accel.get())) {
+      out << "accel:      kdtree (" << opt.kd_split << ")\n";
+      print_kd_stats(out, compute_kd_stats(*kd));
+    } else {
+      std::snprintf(line, sizeof line, "accel:      %s, built in %.1f ms, %zu bytes\n",
+                    std::string(accel->name()).c_str(), ms, accel->memory_bytes());
+      out << line;
+    }
     return 0;
   } catch (const std::exception& e) {
     err << "lancer: error: " << e.what() << "\n";

@@ -8,7 +8,8 @@ namespace lancer {
 
 struct InfoOptions {
   std::string scene;
-  std::string accel = "brute";
+  std::string accel = "kdtree";
+  std::string kd_split = "sah";
 };
 
 int run_info(const InfoOptions& options, std::ostream& out, std::ostream& err);

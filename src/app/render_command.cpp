@@ -66,6 +66,14 @@ bool has_light(const Scene& scene) {
 
 }  // namespace
 
+KdBuildOptions kd_options_from(const std::string& split) {
+  KdBuildOptions kd;
+  const auto parsed = parse_kd_split(split);
+  if (!parsed) throw std::invalid_argument("unknown kd-tree split '" + split + "'");
+  kd.split = *parsed;
+  return kd;
+}
+
 int run_render(const RenderOptions& options, std::ostream& out, std::ostream& err) {
   try {
     RenderOptions opt = options;
@@ -90,7 +98,7 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
                                   " is too large (at most 2^28 pixels)");
 
     const auto t_build = std::chrono::steady_clock::now();
-    const std::unique_ptr<Accelerator> accel = make_accelerator(opt.accel, scene.triangles);
+    const std::unique_ptr<Accelerator> accel = make_accelerator(opt.accel, scene.triangles, kd_options_from(opt.kd_split));
     const double build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_build).count();
     const double load_s = std::chrono::duration<double>(t_build - t_load).count();
 

@@ -8,6 +8,7 @@
 
 #include <glm/vec3.hpp>
 
+#include "accel/kd_build.h"
 #include "render/render_settings.h"
 
 namespace lancer {
@@ -17,7 +18,8 @@ struct RenderOptions {
   std::vector<std::string> outputs;  // by extension: .exr, .png
   RenderSettings settings;
   bool height_given = false;
-  std::string accel = "brute";
+  std::string accel = "kdtree";
+  std::string kd_split = "sah";
   std::optional<int> camera;         // glTF camera index
   std::optional<glm::vec3> eye, look_at, up;
   std::optional<float> fov_degrees;  // vertical
@@ -25,6 +27,9 @@ struct RenderOptions {
 };
 
 // Returns the process exit code; messages go to `err`, the summary line to `out`.
+// The kd-tree options `--kd-split` selects; throws std::invalid_argument on a bad name.
+KdBuildOptions kd_options_from(const std::string& split);
+
 int run_render(const RenderOptions& options, std::ostream& out, std::ostream& err);
 
 }  // namespace lancer

@@ -49,7 +49,7 @@ TEST(Cli, HelpListsEveryRenderOption) {
   const CliResult r = run({"render", "--help"});
   EXPECT_EQ(r.code, 0);
   for (const char* opt : {"--output", "--width", "--height", "--spp", "--integrator", "--threads", "--seed", "--accel",
-                          "--camera", "--eye", "--look-at", "--up", "--fov", "--max-depth"})
+                          "--camera", "--eye", "--look-at", "--up", "--fov", "--max-depth", "--kd-split"})
     EXPECT_NE(r.out.find(opt), std::string::npos) << opt;
 }
 
@@ -63,6 +63,7 @@ TEST(Cli, AbsurdOptionsAreRefused) {
         {"render", cornell(), "--threads", "-3"},
         {"render", cornell(), "--integrator", "magic"},
         {"render", cornell(), "--accel", "octree"},
+        {"render", cornell(), "--kd-split", "sweep"},
         {"render", cornell(), "--eye", "1,2"}}) {
     const CliResult r = run(args);
     EXPECT_EQ(r.code, 2) << args[2] << " " << args[3];
@@ -110,6 +111,9 @@ TEST(Cli, InfoDescribesTheScene) {
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("triangles:"), std::string::npos);
   EXPECT_NE(r.out.find("bounds:"), std::string::npos);
+  for (const char* stat : {"nodes:", "leaves:", "empty leaves:", "max leaf depth:", "mean leaf depth:",
+                           "triangles / leaf:", "SAH cost:", "bytes / triangle:", "build time:"})
+    EXPECT_NE(r.out.find(stat), std::string::npos) << stat;
 }
 
 // The real binary: exit codes reach the shell and output goes to the right streams.

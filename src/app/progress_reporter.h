@@ -21,7 +21,7 @@ class ProgressReporter {
   bool terminal_;
   std::mutex mutex_;
   std::chrono::steady_clock::time_point start_;
-  int last_decile_ = -1;
+  int last_decile_ = 0;  // no "0 %" line
   int last_permille_ = -1;
   bool drew_ = false;
 };

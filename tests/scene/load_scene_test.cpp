@@ -1,0 +1,117 @@
+// load_scene: the reader is chosen by extension, and what no reader can fix is refused.
+#include "scene/load_scene.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "scene/scene_builder.h"
+#include "scene/scene_error.h"
+#include "test_paths.h"
+
+namespace lancer {
+namespace {
+
+namespace fs = std::filesystem;
+
+class LoadScene : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("lancer_load_scene_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  fs::path write(const std::string& name, const std::string& text) {
+    const fs::path p = dir_ / name;
+    std::ofstream(p, std::ios::binary) << text;
+    return p;
+  }
+
+  // The message of the SceneError that loading `p` throws, or "" when it loads.
+  static std::string error_of(const fs::path& p) {
+    try {
+      load_scene(p);
+    } catch (const SceneError& e) {
+      return e.what();
+    }
+    return "";
+  }
+
+  fs::path dir_;
+};
+
+TEST_F(LoadScene, ChoosesTheReaderByExtensionCaseInsensitively) {
+  const std::string tri = "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  EXPECT_EQ(load_scene(write("a.obj", tri)).triangle_count(), 1u);
+  EXPECT_EQ(load_scene(write("b.OBJ", tri)).triangle_count(), 1u);
+  EXPECT_EQ(load_scene(test::scenes_dir() / "cornell-box.gltf").triangle_count(), 32u);
+}
+
+TEST_F(LoadScene, MissingFileAndDirectoryAreNamed) {
+  const std::string missing = error_of(dir_ / "nope.gltf");
+  EXPECT_NE(missing.find("nope.gltf"), std::string::npos) << missing;
+  EXPECT_NE(missing.find("no such file"), std::string::npos) << missing;
+  fs::create_directories(dir_ / "folder.obj");
+  EXPECT_NE(error_of(dir_ / "folder.obj").find("not a regular file"), std::string::npos);
+}
+
+TEST_F(LoadScene, UnknownFormatIsRefused) {
+  const std::string e = error_of(write("scene.ply", "ply\n"));
+  EXPECT_NE(e.find("scene.ply"), std::string::npos) << e;
+  EXPECT_NE(e.find(".ply"), std::string::npos) << e;
+}
+
+TEST_F(LoadScene, SceneWithoutTrianglesIsRefused) {
+  EXPECT_NE(error_of(write("empty.obj", "# nothing\n")).find("no triangles"), std::string::npos);
+  // Only zero-area triangles: all dropped, nothing left to render.
+  EXPECT_NE(error_of(write("flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n")).find("no triangles"),
+            std::string::npos);
+  EXPECT_NE(error_of(write("empty.gltf", R"({"asset":{"version":"2.0"}})")).find("no triangles"), std::string::npos);
+}
+
+TEST(SceneBuilder, DropsZeroAreaAndRefusesNonFinite) {
+  Scene scene;
+  SceneBuilder b(scene, "test.obj");
+  const glm::vec3 good[3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  const glm::vec3 line[3] = {{0, 0, 0}, {1, 1, 1}, {2, 2, 2}};
+  const glm::vec3 point[3] = {{5, 5, 5}, {5, 5, 5}, {5, 5, 5}};
+  EXPECT_TRUE(b.add_triangle(good, 0, 0));
+  EXPECT_FALSE(b.add_triangle(line, 0, 1));
+  EXPECT_FALSE(b.add_triangle(point, 0, 2));
+  EXPECT_TRUE(b.add_triangle(good, 0, 3));
+  EXPECT_EQ(scene.triangle_count(), 2u);
+  EXPECT_EQ(scene.stats.degenerate_dropped, 2u);
+  EXPECT_EQ(scene.source_triangle_id[1], 3u);  // ids of later triangles do not shift
+  const glm::vec3 nan[3] = {{0, 0, 0}, {1, NAN, 0}, {0, 1, 0}};
+  const glm::vec3 inf[3] = {{0, 0, 0}, {1, 0, 0}, {0, INFINITY, 0}};
+  EXPECT_THROW(b.add_triangle(nan, 0, 4), SceneError);
+  EXPECT_THROW(b.add_triangle(inf, 0, 5), SceneError);
+  EXPECT_EQ(scene.triangle_count(), 2u);
+}
+
+// A tiny but valid triangle far from the origin is kept: the area test is exact.
+TEST(SceneBuilder, KeepsTinyTriangles) {
+  Scene scene;
+  SceneBuilder b(scene, "test.obj");
+  const glm::vec3 tiny[3] = {{1000, 1000, 1000}, {1000.0001f, 1000, 1000}, {1000, 1000.0001f, 1000}};
+  EXPECT_TRUE(b.add_triangle(tiny, 0, 0));
+}
+
+TEST(SceneBuilder, ZeroLengthNormalsFallBackToTheGeometricNormal) {
+  Scene scene;
+  SceneBuilder b(scene, "test.gltf");
+  const glm::vec3 p[3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  const glm::vec3 n[3] = {{0, 0, 2}, {0, 0, 0}, {0, 0, 1}};
+  CornerAttributes attribs;
+  attribs.normals = n;
+  ASSERT_TRUE(b.add_triangle(p, 0, 0, attribs));
+  EXPECT_EQ(scene.attrib_flags[0] & kHasNormals, 0);
+  EXPECT_EQ(scene.stats.zero_normals_repaired, 1u);
+  EXPECT_EQ(scene.normals[0], glm::vec3(0, 0, 1));  // normalised
+}
+
+}  // namespace
+}  // namespace lancer

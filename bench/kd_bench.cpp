@@ -2,7 +2,8 @@
 // rays) for SAH, middle and median trees, on procedural spheres and on the Stanford bunny
 // when the shared meshes are present; plus BM_KdCost, which measures the SAH constants.
 //
-// Names: BM_KdBuild/<split>/<scene>, BM_KdTrace/<split>/<rays>/<scene>, BM_KdCost/spheres.
+// Names: BM_KdBuild/<split>/<scene>, BM_KdTrace/<split>/<isa>/<rays>/<scene> and
+// BM_KdCost/<isa>/spheres, for every ISA this CPU supports (scalar included).
 #include <benchmark/benchmark.h>
 
 #include <ctime>
@@ -22,6 +23,7 @@
 #include "accel/kd_tree.h"
 #include "accel/ray_offset.h"
 #include "accel/watertight.h"
+#include "simd/isa.h"
 #include "scene/load_scene.h"
 #include "scene/procedural.h"
 
@@ -124,11 +126,11 @@ void bm_build(benchmark::State& state, std::string split, std::string name) {
       benchmark::Counter(double(t.size()) * double(state.iterations()), benchmark::Counter::kIsRate);
 }
 
-void bm_trace(benchmark::State& state, std::string split, std::string kind, std::string name) {
+void bm_trace(benchmark::State& state, std::string split, Isa isa, std::string kind, std::string name) {
   const TriangleSoA& t = scene(name);
   KdBuildOptions o;
   o.split = split_of(split);
-  const KdTree kd(t, o);
+  const KdTree kd(t, o, isa);
   const std::vector<Ray> rays = kind == "primary" ? primary_rays(t) : diffuse_rays(t, kd);
   std::int64_t n = 0;
   for (auto _ : state) {
@@ -152,7 +154,7 @@ double cpu_seconds() {
 // kd_intersect_counted) are recorded, and T = c + C_trav * S + C_isect * I is fitted by
 // least squares (c: the per-ray setup). Cache misses on nodes and on leaf triangles are
 // thereby charged to the operation that causes them.
-void bm_cost(benchmark::State& state) {
+void bm_cost(benchmark::State& state, Isa isa) {
   const TriangleSoA& t = scene("spheres");
   const std::vector<Ray> rays = diffuse_rays(t, KdTree(t));
   const float ratios[] = {0.25f, 0.5f, 1.0f, 2.0f, 4.0f, 8.0f};
@@ -162,18 +164,18 @@ void bm_cost(benchmark::State& state) {
     KdBuildOptions o;
     o.traversal_cost = 1.0f;
     o.intersection_cost = ratio;
-    trees.push_back(std::make_unique<KdTree>(t, o));
+    trees.push_back(std::make_unique<KdTree>(t, o, isa));
     KdTraversalCounts counts;
-    for (const Ray& r : rays) kd_intersect_counted(view(*trees.back()), r, counts);
+    for (const Ray& r : rays) trees.back()->intersect_counted(r, counts);
     steps.push_back(double(counts.inner_steps) / double(rays.size()));
     tests.push_back(double(counts.triangle_tests) / double(rays.size()));
   }
   std::vector<double> best_ns(trees.size(), 1e300);
   for (auto _ : state) {
     for (std::size_t k = 0; k < trees.size(); ++k) {
-      const KdTreeView v = view(*trees[k]);
+      const KdTree& kd = *trees[k];
       const double start = cpu_seconds();
-      for (const Ray& r : rays) benchmark::DoNotOptimize(kd_intersect(v, r));
+      for (const Ray& r : rays) benchmark::DoNotOptimize(kd.intersect(r));
       best_ns[k] = std::min(best_ns[k], 1e9 * (cpu_seconds() - start) / double(rays.size()));
     }
   }
@@ -221,12 +223,17 @@ struct Registration {
       for (const char* split : {"sah", "middle", "median"}) {
         benchmark::RegisterBenchmark(("BM_KdBuild/" + std::string(split) + "/" + name).c_str(), bm_build, split, name)
             ->Unit(benchmark::kMillisecond);
-        for (const char* kind : {"primary", "diffuse"})
-          benchmark::RegisterBenchmark(("BM_KdTrace/" + std::string(split) + "/" + kind + "/" + name).c_str(), bm_trace,
-                                       split, kind, name)
-              ->Unit(benchmark::kMillisecond);
+        for (Isa isa : supported_isas())
+          for (const char* kind : {"primary", "diffuse"}) {
+            const std::string bm = "BM_KdTrace/" + std::string(split) + "/" + std::string(isa_name(isa)) + "/" + kind +
+                                   "/" + name;
+            benchmark::RegisterBenchmark(bm.c_str(), bm_trace, split, isa, kind, name)->Unit(benchmark::kMillisecond);
+          }
       }
-    benchmark::RegisterBenchmark("BM_KdCost/spheres", bm_cost)->Iterations(5)->Unit(benchmark::kMillisecond);
+    for (Isa isa : supported_isas())
+      benchmark::RegisterBenchmark(("BM_KdCost/" + std::string(isa_name(isa)) + "/spheres").c_str(), bm_cost, isa)
+          ->Iterations(5)
+          ->Unit(benchmark::kMillisecond);
   }
 } registration;
 

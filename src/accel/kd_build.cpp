@@ -76,20 +76,20 @@ void emit_leaf(const NodeInput& in, Subtree& out, std::size_t slot) {
 }
 
 // Depth-first into one array: the node goes to out.nodes[slot], its children pair is
-// appended at the end.
-void emit_sequential(const Context& ctx, NodeInput& in, Subtree& out, std::size_t slot) {
+// appended at the end. `in` is handed to `scratch` for reuse once done with.
+void emit_sequential(const Context& ctx, NodeInput& in, Subtree& out, std::size_t slot, BuildScratch& scratch) {
   const SplitChoice c = choose_split(ctx, in, false);
   NodeInput left, right;
-  if (!c.found || !partition_node(ctx.tris, in, c, false, left, right)) {
+  if (!c.found || !partition_node(ctx.tris, in, c, false, left, right, scratch)) {
     emit_leaf(in, out, slot);
+    scratch.recycle(in);
     return;
   }
   const std::size_t pair = out.nodes.size();
   out.nodes.resize(pair + 2);
   out.nodes[slot] = KdNode::inner(c.axis, c.pos, static_cast<std::uint32_t>(pair));
-  emit_sequential(ctx, left, out, pair);
-  left = {};
-  emit_sequential(ctx, right, out, pair + 1);
+  emit_sequential(ctx, left, out, pair, scratch);
+  emit_sequential(ctx, right, out, pair + 1, scratch);
 }
 
 KdNode relocate(const KdNode& n, std::size_t node_shift, std::size_t prim_shift) {
@@ -117,13 +117,16 @@ Subtree concatenate(const SplitChoice& c, Subtree&& left, Subtree&& right) {
 Subtree build_subtree(const Context& ctx, NodeInput& in) {
   Subtree out;
   out.nodes.resize(1);
+  BuildScratch scratch;
   if (in.refs.size() < kParallelThreshold) {
-    emit_sequential(ctx, in, out, 0);
+    emit_sequential(ctx, in, out, 0, scratch);
     return out;
   }
   const SplitChoice c = choose_split(ctx, in, true);
   NodeInput left, right;
-  if (!c.found || !partition_node(ctx.tris, in, c, true, left, right)) {
+  const bool split = c.found && partition_node(ctx.tris, in, c, true, left, right, scratch);
+  scratch = {};  // the parent's vectors: free them before the subtrees are built
+  if (!split) {
     emit_leaf(in, out, 0);
     return out;
   }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <utility>
 
 namespace lancer::kd {
 namespace {
@@ -59,21 +60,24 @@ Bounds3 clipped_triangle_bounds(const TriangleSoA& tris, std::uint32_t tri, cons
   }
   if (clamped.empty()) return Bounds3{};
 
-  Polygon a, b;
-  a.n = 3;
-  for (int k = 0; k < 3; ++k) a.p[k] = {{tris.x[k][tri], tris.y[k][tri], tris.z[k][tri]}};
+  Polygon polygons[2];
+  Polygon* cur = &polygons[0];
+  Polygon* next = &polygons[1];
+  cur->n = 3;
+  for (int k = 0; k < 3; ++k) cur->p[k] = {{tris.x[k][tri], tris.y[k][tri], tris.z[k][tri]}};
   for (int axis = 0; axis < 3; ++axis) {
     // Planes the triangle does not cross cut nothing: skip them (exact, and faster).
     if (tri_box.lo[axis] < cell.lo[axis]) {
-      clip_against_plane(a, axis, cell.lo[axis], 1.0, b);
-      a = b;
+      clip_against_plane(*cur, axis, cell.lo[axis], 1.0, *next);
+      std::swap(cur, next);
     }
     if (tri_box.hi[axis] > cell.hi[axis]) {
-      clip_against_plane(a, axis, cell.hi[axis], -1.0, b);
-      a = b;
+      clip_against_plane(*cur, axis, cell.hi[axis], -1.0, *next);
+      std::swap(cur, next);
     }
-    if (a.n == 0) return Bounds3{};
+    if (cur->n == 0) return Bounds3{};
   }
+  const Polygon& a = *cur;
 
   double lo[3], hi[3];
   for (int k = 0; k < 3; ++k) {

@@ -25,18 +25,14 @@ EventLists make_sorted_events(const std::vector<Ref>& refs, bool parallel);
 SplitChoice find_sah_split(const EventLists& events, std::size_t n, const Bounds3& cell, const CostModel& model,
                            bool parallel);
 
-// Side flags of one parent ref after classification and clipping.
-enum SideFlags : std::uint8_t { kInLeft = 1, kInRight = 2, kReclipped = 4 };
-
-// Splices the parent's sorted events into the children (section 4.3): events of refs
-// that stay whole on one side keep their order and get the child's ref index
-// (remap_left/right); refs marked kReclipped straddled the plane and got new bounds, so
-// their events are regenerated from the child refs, sorted (few of them) and merged in.
-// `left_refs`/`right_refs` are the children's refs, used for the regenerated events.
-void splice_events(const EventLists& parent, const std::vector<std::uint8_t>& side,
-                   const std::vector<std::uint32_t>& remap_left, const std::vector<std::uint32_t>& remap_right,
-                   const std::vector<Ref>& left_refs, const std::vector<Ref>& right_refs,
-                   const std::vector<std::uint32_t>& reclipped_left, const std::vector<std::uint32_t>& reclipped_right,
-                   EventLists& left, EventLists& right, bool parallel);
+// Splices the parent's sorted events into the children (section 4.3) in one pass per
+// axis: events of refs that stay whole on one side keep their order and get the child's
+// ref index (scratch.remap_left/right); refs marked kReclipped in scratch.side straddled
+// the plane and got new bounds, so their events are regenerated from the child refs
+// (scratch.reclipped_left/right index left_refs/right_refs), sorted (few of them) and
+// merged in during the same pass. With `parallel` the three axes are spliced at the same
+// time, and `scratch.fresh` is not used.
+void splice_events(const EventLists& parent, const std::vector<Ref>& left_refs, const std::vector<Ref>& right_refs,
+                   BuildScratch& scratch, EventLists& left, EventLists& right, bool parallel);
 
 }  // namespace lancer::kd

@@ -24,7 +24,7 @@ std::uint8_t classify(const Bounds3& b, int axis, float pos, PlanarSide planar) 
 }  // namespace
 
 bool partition_node(const TriangleSoA& tris, NodeInput& in, const SplitChoice& choice, bool parallel,
-                    NodeInput& left, NodeInput& right) {
+                    NodeInput& left, NodeInput& right, BuildScratch& scratch) {
   const std::size_t n = in.refs.size();
   const int axis = choice.axis;
   left.cell = in.cell;
@@ -32,15 +32,20 @@ bool partition_node(const TriangleSoA& tris, NodeInput& in, const SplitChoice& c
   left.cell.hi[axis] = choice.pos;
   right.cell.lo[axis] = choice.pos;
 
-  std::vector<std::uint8_t> side(n);
-  std::vector<std::uint32_t> straddling;
+  std::vector<std::uint8_t>& side = scratch.side;
+  std::vector<std::uint32_t>& straddling = scratch.straddling;
+  side.resize(n);
+  straddling.clear();
   for (std::size_t i = 0; i < n; ++i) {
     side[i] = classify(in.refs[i].box, axis, choice.pos, choice.planar);
     if (side[i] == 0) straddling.push_back(static_cast<std::uint32_t>(i));
   }
 
   // Perfect splits: clip each straddling triangle to both child cells.
-  std::vector<Bounds3> clip_left(straddling.size()), clip_right(straddling.size());
+  std::vector<Bounds3>& clip_left = scratch.clip_left;
+  std::vector<Bounds3>& clip_right = scratch.clip_right;
+  clip_left.resize(straddling.size());
+  clip_right.resize(straddling.size());
   auto clip_range = [&](std::size_t begin, std::size_t end) {
     for (std::size_t k = begin; k < end; ++k) {
       const Ref& r = in.refs[straddling[k]];
@@ -73,7 +78,14 @@ bool partition_node(const TriangleSoA& tris, NodeInput& in, const SplitChoice& c
   if (nl + nr > in.budget || nl + nr == 0) return false;
 
   // Children's refs in ascending triangle index (the parent's order is kept).
-  std::vector<std::uint32_t> remap_left(n), remap_right(n), reclipped_left, reclipped_right;
+  std::vector<std::uint32_t>& remap_left = scratch.remap_left;
+  std::vector<std::uint32_t>& remap_right = scratch.remap_right;
+  remap_left.resize(n);
+  remap_right.resize(n);
+  scratch.reclipped_left.clear();
+  scratch.reclipped_right.clear();
+  left.refs = scratch.take_refs();
+  right.refs = scratch.take_refs();
   left.refs.reserve(nl);
   right.refs.reserve(nr);
   std::size_t k = 0;
@@ -82,20 +94,23 @@ bool partition_node(const TriangleSoA& tris, NodeInput& in, const SplitChoice& c
     const bool reclipped = (s & kReclipped) != 0;
     if (s & kInLeft) {
       remap_left[i] = static_cast<std::uint32_t>(left.refs.size());
-      if (reclipped) reclipped_left.push_back(remap_left[i]);
+      if (reclipped) scratch.reclipped_left.push_back(remap_left[i]);
       left.refs.push_back({in.refs[i].tri, reclipped ? clip_left[k] : in.refs[i].box});
     }
     if (s & kInRight) {
       remap_right[i] = static_cast<std::uint32_t>(right.refs.size());
-      if (reclipped) reclipped_right.push_back(remap_right[i]);
+      if (reclipped) scratch.reclipped_right.push_back(remap_right[i]);
       right.refs.push_back({in.refs[i].tri, reclipped ? clip_right[k] : in.refs[i].box});
     }
     if (reclipped) ++k;
   }
 
   if (!in.events.empty()) {
-    splice_events(in.events, side, remap_left, remap_right, left.refs, right.refs, reclipped_left, reclipped_right,
-                  left.events, right.events, parallel);
+    for (int a = 0; a < 3; ++a) {
+      left.events.axis[a] = scratch.take_events();
+      right.events.axis[a] = scratch.take_events();
+    }
+    splice_events(in.events, left.refs, right.refs, scratch, left.events, right.events, parallel);
   }
 
   // Budget shares: budget * nl / (nl + nr) >= nl because nl + nr <= budget. The budget is
@@ -105,8 +120,7 @@ bool partition_node(const TriangleSoA& tris, NodeInput& in, const SplitChoice& c
   right.budget = in.budget * nr / total;
   left.depth = right.depth = in.depth + 1;
 
-  in.refs = {};
-  in.events = {};
+  scratch.recycle(in);
   return true;
 }
 

@@ -12,8 +12,9 @@ namespace lancer::kd {
 // on each side where the clipped triangle is not empty. Children get a share of the
 // reference budget proportional to their ref counts. Returns false, leaving `in` as it
 // was, when the children together would hold more references than `in.budget`; else
-// empties `in` and returns true.
+// hands the vectors of `in` to `scratch` for reuse (leaving `in` empty) and returns true.
+// `scratch` holds the temporaries and supplies the children's vectors.
 bool partition_node(const TriangleSoA& tris, NodeInput& in, const SplitChoice& choice, bool parallel,
-                    NodeInput& left, NodeInput& right);
+                    NodeInput& left, NodeInput& right, BuildScratch& scratch);
 
 }  // namespace lancer::kd

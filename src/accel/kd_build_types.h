@@ -2,6 +2,8 @@
 #pragma once
 
 #include <cstdint>
+#include <new>
+#include <utility>
 #include <vector>
 
 #include "accel/kd_build.h"
@@ -32,9 +34,32 @@ struct Event {
   bool operator<(const Event& o) const { return pos < o.pos || (pos == o.pos && key < o.key); }
 };
 
+// std::allocator, except that resize() leaves new trivial elements uninitialised: event
+// lists are sized to a bound first and then written once, so zero-filling would be waste.
+template <typename T>
+struct UninitializedAllocator : std::allocator<T> {
+  template <typename U>
+  struct rebind {
+    using other = UninitializedAllocator<U>;
+  };
+  UninitializedAllocator() = default;
+  template <typename U>
+  UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
+  template <typename U>
+  void construct(U* p) noexcept {
+    ::new (static_cast<void*>(p)) U;
+  }
+  template <typename U, typename... Args>
+  void construct(U* p, Args&&... args) {
+    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
+  }
+};
+
+using EventVector = std::vector<Event, UninitializedAllocator<Event>>;
+
 // One sorted event list per axis.
 struct EventLists {
-  std::vector<Event> axis[3];
+  EventVector axis[3];
   bool empty() const { return axis[0].empty() && axis[1].empty() && axis[2].empty(); }
 };
 
@@ -45,6 +70,46 @@ struct NodeInput {
   Bounds3 cell;
   int depth = 0;
   std::size_t budget = 0;  // the most references this subtree's leaves may hold
+};
+
+// Side flags of one parent ref after classification and clipping.
+enum SideFlags : std::uint8_t { kInLeft = 1, kInRight = 2, kReclipped = 4 };
+
+// Working memory of the build, reused from node to node so that the sequential part of
+// the build does not allocate for every node: the temporaries of partition_node(), and
+// the vectors of finished nodes, handed on to new ones (their capacity is kept). One
+// scratch belongs to one sequential builder; it is never shared between threads.
+struct BuildScratch {
+  std::vector<std::uint8_t> side;
+  std::vector<std::uint32_t> straddling, remap_left, remap_right, reclipped_left, reclipped_right;
+  std::vector<Bounds3> clip_left, clip_right;
+  EventVector fresh[3];  // regenerated events of reclipped refs (left, right, sort buffer), one axis at a time
+
+  std::vector<Ref> take_refs() { return take(spare_refs_); }
+  EventVector take_events() { return take(spare_events_); }
+  // Keeps the node's vectors for reuse (up to a bound) and leaves `in` empty.
+  void recycle(NodeInput& in) {
+    give(spare_refs_, in.refs);
+    for (EventVector& e : in.events.axis) give(spare_events_, e);
+  }
+
+ private:
+  static constexpr std::size_t kMaxSpares = 64;
+  template <typename V>
+  static V take(std::vector<V>& spares) {
+    if (spares.empty()) return V();
+    V v = std::move(spares.back());
+    spares.pop_back();
+    return v;
+  }
+  template <typename V>
+  static void give(std::vector<V>& spares, V& v) {
+    v.clear();
+    if (v.capacity() != 0 && spares.size() < kMaxSpares) spares.push_back(std::move(v));
+    v = V();
+  }
+  std::vector<std::vector<Ref>> spare_refs_;
+  std::vector<EventVector> spare_events_;
 };
 
 // Which side of the plane triangles lying in it go to.

@@ -6,6 +6,8 @@
 //   flags_offset low 2 bits: 0, 1, 2 = split axis of an inner node, 3 = leaf;
 //                high 30 bits: inner: index of the left child, the right child is the
 //                next node; leaf: first slot of its range in the leaf arrays.
+// kd_traverse-inl.h decodes the same two words itself (per-ISA code calls no inline
+// function of namespace lancer, see STYLE.md example 3), so keep the two in step.
 // Invariants: nodes[0] is the root; children pairs are stored side by side; a leaf's
 // slots start at a multiple of the block width and hold `count` triangles in ascending
 // triangle index, followed by padding up to the next multiple of the width.
@@ -70,7 +72,9 @@ static_assert(sizeof(KdNode) == 8, "kd-tree nodes are 8 bytes");
 
 // W triangles of one leaf in structure-of-arrays form: vertex k of lane i is
 // (x[k][i], y[k][i], z[k][i]), bit-identical to the input TriangleSoA. Padding lanes hold
-// NaN vertices, which the watertight kernel never reports as a hit.
+// NaN vertices, which the watertight kernel never reports as a hit. KdTree stores its blocks
+// as a flat float array with this layout (9 * W floats per block), W chosen per tree to
+// match the traversal's vector width (kd_block_width in kd_traverse.h).
 template <int W>
 struct alignas(W * 4 < 64 ? W * 4 : 64) KdTriangleBlock {
   static_assert(W == 4 || W == 8 || W == 16, "block width is 4, 8 or 16");
@@ -80,8 +84,7 @@ struct alignas(W * 4 < 64 ? W * 4 : 64) KdTriangleBlock {
   float z[3][W];
 };
 
-// The block width Lancer uses: 4 keeps padding small for the scalar leaf loop; the SIMD
-// packet code can instantiate the layout with 8 or 16.
-inline constexpr int kKdBlockWidth = 4;
+// The widest block any traversal kernel uses (AVX-512: 16 lanes).
+inline constexpr int kKdMaxBlockWidth = 16;
 
 }  // namespace lancer

@@ -1,145 +1,115 @@
-// Single-ray kd-tree traversal: front to back with an explicit stack (Havran's TA_B^rec in
-// iterative form, as in pbrt's KdTreeAggregate::Intersect), written from scratch.
-//
-// Exactness. Every triangle is tested with the oracle's watertight kernel against the
-// whole ray range [tnear, best), so a triangle's t, u, v do not depend on the leaf it is
-// found in. Ties across leaves: the kernel is asked for t <= best.t, and the lower
-// triangle index wins an exact tie, as in the oracle. What remains is to visit every leaf
-// that can hold the oracle's answer before stopping. The computed t of a triangle can
-// differ from the exact ray parameter of the exact hit point by rounding (a few ulps
-// relative to t for a well-shaped triangle, more for grazing ones), so ray/plane distances
-// are computed in double and every cell interval is widened by a slack
-//   slack(t) = |t| * kRelativeSlack + kExtentSlack * (largest scene extent) / max|dir|,
-// the root interval is [tnear - slack, tfar + slack] clipped to the widened scene box,
-// and the search stops only once best.t < next entry - slack. Widening costs only an extra
-// leaf visit for hits within the slack of a cell boundary.
-//
-// Axis-parallel rays: a zero direction component never divides; the ray stays on one side
-// of a split plane, or visits both children when it lies exactly in the plane (no 0 * inf).
-//
-// Where the kernel's own arithmetic breaks down, the error bound above does not hold, so
-// those rays scan every leaf slot instead (exact by construction, O(references)):
-//  - a NaN or infinite origin or direction (the kernel gives t = 0 "hits" for an infinite
-//    direction, and the scan reproduces them);
-//  - scales where the kernel's products underflow or overflow in float: with E the largest
-//    scene extent and D the distance scale from the origin to the scene, when
-//    E^2 * max(E, D) / max|dir| < 2^-60 (e.g. a 1e-6 scene and unit directions: the kernel
-//    then returns t = 0 for triangles anywhere on the ray's line) or > 2^100, or E > 2^50.
-// A zero direction never hits (the kernel's shear constants are NaN). One limit remains:
-// a triangle far smaller than the scene (edges below ~1e-6 E at the threshold scale, or
-// below ~1e-19 of a unit-scale ray's reach) has products that underflow on its own, and its
-// t can then be off by more than the slack.
+// The generic parts of single-ray kd-tree traversal: per-ray setup, the scan fallback, the
+// exact scalar test of one slot, and the dispatch table. The traversal loops themselves
+// are templates in kd_traverse-inl.h, compiled once per ISA.
 #include "accel/kd_traverse.h"
 
+#include <bit>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
+#include "accel/kd_traverse_isa.h"
+#include "accel/kd_traverse_setup.h"
 #include "accel/kd_tree.h"
 #include "accel/watertight.h"
 
 namespace lancer {
 namespace {
 
-constexpr double kRelativeSlack = 1.0 / 65536.0;  // 2^-16 = 256 float ulps of t
-constexpr double kExtentSlack = 1.0 / 65536.0;
+double slack(double t, double abs_slack) { return std::fabs(t) * kKdRelativeSlack + abs_slack; }
 
-struct TraversalRay {
-  double org[3];
-  double inv_dir[3];
-  bool parallel[3];   // dir[axis] == 0: never crosses a plane of that axis
-  bool negative[3];   // dir[axis] < 0: the right child comes first
-  double abs_slack;
+// Plain comparisons: std::fmax is a libm call here, once per axis and ray. Inputs are not NaN.
+double max_of(double a, double b) { return a > b ? a : b; }
+double min_of(double a, double b) { return a < b ? a : b; }
 
-  double slack(double t) const { return std::fabs(t) * kRelativeSlack + abs_slack; }
-};
+// float(d) rounded towards -inf (down = true) or +inf.
+float round_float(double d, bool down) {
+  float f = static_cast<float>(d);
+  if (down && double(f) > d) f = std::nextafter(f, -kInfinity);
+  if (!down && double(f) < d) f = std::nextafter(f, kInfinity);
+  return f;
+}
 
-struct StackEntry {
-  std::uint32_t node;
-  double tmin, tmax;
-};
+void load_triangle(const KdTreeView& tree, std::uint32_t slot, glm::vec3 v[3]) {
+  const std::uint32_t w = tree.block_width;
+  const float* b = tree.blocks + std::size_t(slot / w) * 9 * w + slot % w;
+  for (std::uint32_t k = 0; k < 3; ++k) v[k] = glm::vec3(b[k * w], b[(3 + k) * w], b[(6 + k) * w]);
+}
 
-enum class Plan { Miss, Traverse, Scan };
+}  // namespace
+
+KdTreeView view(const KdTree& tree) {
+  return {tree.nodes().data(),
+          tree.blocks().data(),
+          tree.leaf_prims().data(),
+          static_cast<std::uint32_t>(tree.leaf_prims().size()),
+          static_cast<std::uint32_t>(tree.block_width()),
+          tree.bounds()};
+}
 
 // Sets up the ray and clips [tnear, tfar] to the scene box (both widened by the slack),
-// or says why the ray does not traverse (see the header comment).
-Plan setup(const KdTreeView& tree, const Ray& ray, TraversalRay& tr, double& t0, double& t1) {
-  if (tree.bounds.empty()) return Plan::Miss;
+// or says why the ray does not traverse (see the exactness comment in kd_traverse-inl.h).
+KdRaySetup kd_setup_ray(const KdTreeView& tree, const Ray& ray) {
+  KdRaySetup s{};
+  s.plan = KdPlan::Miss;
+  if (tree.bounds.empty() || std::isnan(ray.tnear) || std::isnan(ray.tfar)) return s;  // nothing to hit
   double max_dir = 0.0, max_extent = 0.0, distance = 0.0;
   for (int a = 0; a < 3; ++a) {
-    if (!std::isfinite(ray.org[a]) || !std::isfinite(ray.dir[a])) return Plan::Scan;
+    if (!std::isfinite(ray.org[a]) || !std::isfinite(ray.dir[a])) {
+      s.plan = KdPlan::Scan;
+      return s;
+    }
     const double lo = tree.bounds.lo[a], hi = tree.bounds.hi[a];
-    max_dir = std::fmax(max_dir, std::fabs(double(ray.dir[a])));
-    max_extent = std::fmax(max_extent, hi - lo);
-    distance = std::fmax(distance, std::fmax(std::fabs(ray.org[a] - lo), std::fabs(ray.org[a] - hi)));
+    max_dir = max_of(max_dir, std::fabs(double(ray.dir[a])));
+    max_extent = max_of(max_extent, hi - lo);
+    distance = max_of(distance, max_of(std::fabs(ray.org[a] - lo), std::fabs(ray.org[a] - hi)));
   }
-  if (max_dir == 0.0) return Plan::Miss;
-  const double magnitude = max_extent * max_extent * std::fmax(max_extent, distance) / max_dir;
-  if (magnitude < 0x1p-60 || magnitude > 0x1p100 || max_extent > 0x1p50) return Plan::Scan;
+  if (max_dir == 0.0) return s;
+  const double magnitude = max_extent * max_extent * max_of(max_extent, distance) / max_dir;
+  if (magnitude < 0x1p-60 || magnitude > 0x1p100 || max_extent > 0x1p50) {
+    s.plan = KdPlan::Scan;
+    return s;
+  }
 
-  tr.abs_slack = kExtentSlack * max_extent / max_dir;
-  t0 = double(ray.tnear);
-  t1 = double(ray.tfar);
-  t0 -= tr.slack(t0);
-  t1 += tr.slack(t1);
+  s.abs_slack = kKdExtentSlack * max_extent / max_dir;
+  bool float_ok = s.abs_slack >= 0x1p-100 && s.abs_slack <= 0x1p64;
+  double t0 = double(ray.tnear), t1 = double(ray.tfar);
+  t0 -= slack(t0, s.abs_slack);
+  t1 += slack(t1, s.abs_slack);
   for (int a = 0; a < 3; ++a) {
-    tr.org[a] = ray.org[a];
-    tr.parallel[a] = ray.dir[a] == 0.0f;
-    tr.negative[a] = ray.dir[a] < 0.0f;
-    tr.inv_dir[a] = tr.parallel[a] ? 0.0 : 1.0 / double(ray.dir[a]);
+    const double org = ray.org[a], dir = ray.dir[a];
+    s.parallel[a] = dir == 0.0;
+    s.negative[a] = dir < 0.0;
+    s.inv_dir[a] = s.parallel[a] ? 0.0 : 1.0 / dir;
     const double lo = tree.bounds.lo[a], hi = tree.bounds.hi[a];
-    if (tr.parallel[a]) {
-      if (tr.org[a] < lo || tr.org[a] > hi) return Plan::Miss;
+    if (s.parallel[a]) {
+      if (org < lo || org > hi) return s;
       continue;
     }
-    double ta = (lo - tr.org[a]) * tr.inv_dir[a], tb = (hi - tr.org[a]) * tr.inv_dir[a];
+    // Split planes lie in the scene box, so |split - org| <= `reach` on this axis.
+    const double reach = max_of(std::fabs(org - lo), std::fabs(org - hi));
+    float_ok = float_ok && std::fabs(dir) >= 0x1p-64 && reach * std::fabs(s.inv_dir[a]) <= 0x1p64;
+    double ta = (lo - org) * s.inv_dir[a], tb = (hi - org) * s.inv_dir[a];
     if (ta > tb) std::swap(ta, tb);
-    t0 = std::fmax(t0, ta - tr.slack(ta));
-    t1 = std::fmin(t1, tb + tr.slack(tb));
+    t0 = max_of(t0, ta - slack(ta, s.abs_slack));
+    t1 = min_of(t1, tb + slack(tb, s.abs_slack));
   }
-  return t0 <= t1 ? Plan::Traverse : Plan::Miss;  // Miss for NaN tnear or tfar too
+  if (!(t0 <= t1)) return s;
+  s.plan = KdPlan::Traverse;
+  s.t0 = t0;
+  s.t1 = t1;
+  s.float_ok = float_ok && std::fabs(t0) <= 0x1p66 && std::fabs(t1) <= 0x1p66;
+  if (s.float_ok) {
+    for (int a = 0; a < 3; ++a) s.inv_dir_f[a] = static_cast<float>(s.inv_dir[a]);
+    s.abs_slack_f = static_cast<float>(s.abs_slack);
+    s.t0_f = round_float(t0, true);
+    s.t1_f = round_float(t1, false);
+  }
+  return s;
 }
 
-// Moves from an inner node to the child (or children) the ray's interval overlaps.
-// Returns the node to visit next and narrows [tmin, tmax]; pushes the far child when both
-// are visited.
-inline std::uint32_t descend(const KdNode& n, const TraversalRay& tr, double& tmin, double& tmax,
-                             StackEntry* stack, int& sp) {
-  const int a = n.axis();
-  const double split = n.split();
-  const std::uint32_t left = n.left_child();
-  if (tr.parallel[a]) {
-    if (tr.org[a] < split) return left;
-    if (tr.org[a] > split) return left + 1;
-    stack[sp++] = {left + 1, tmin, tmax};  // lies in the plane: both cells
-    return left;
-  }
-  const double tp = (split - tr.org[a]) * tr.inv_dir[a];
-  const double s = tr.slack(tp);
-  const std::uint32_t first = tr.negative[a] ? left + 1 : left;
-  const std::uint32_t second = tr.negative[a] ? left : left + 1;
-  const bool visit_first = tp + s >= tmin;
-  const bool visit_second = tp - s <= tmax;
-  if (visit_first && visit_second) {
-    stack[sp++] = {second, std::fmax(tmin, tp - s), tmax};
-    tmax = std::fmin(tmax, tp + s);
-    return first;
-  }
-  if (visit_first) {
-    tmax = std::fmin(tmax, tp + s);
-    return first;
-  }
-  tmin = std::fmax(tmin, tp - s);
-  return second;
-}
-
-inline void load_triangle(const KdTreeView& tree, std::uint32_t slot, glm::vec3 v[3]) {
-  const KdTriangleBlock<kKdBlockWidth>& b = tree.blocks[slot / kKdBlockWidth];
-  const std::uint32_t lane = slot % kKdBlockWidth;
-  for (int k = 0; k < 3; ++k) v[k] = glm::vec3(b.x[k][lane], b.y[k][lane], b.z[k][lane]);
-}
-
-// Tests every leaf slot with the oracle's rule: the answer cannot depend on the tree.
-Hit scan_intersect(const KdTreeView& tree, const Ray& ray) {
+Hit kd_scan_intersect(const KdTreeView& tree, const Ray& ray) {
   const WatertightRay wr(ray);
   Hit best;
   for (std::uint32_t slot = 0; slot < tree.slot_count; ++slot) {
@@ -155,7 +125,7 @@ Hit scan_intersect(const KdTreeView& tree, const Ray& ray) {
   return best;
 }
 
-bool scan_occluded(const KdTreeView& tree, const Ray& ray) {
+bool kd_scan_occluded(const KdTreeView& tree, const Ray& ray) {
   const WatertightRay wr(ray);
   for (std::uint32_t slot = 0; slot < tree.slot_count; ++slot) {
     if (tree.prims[slot] == kNoHit) continue;
@@ -167,118 +137,27 @@ bool scan_occluded(const KdTreeView& tree, const Ray& ray) {
   return false;
 }
 
-}  // namespace
-
-KdTreeView view(const KdTree& tree) {
-  return {tree.nodes().data(), tree.blocks().data(), tree.leaf_prims().data(),
-          static_cast<std::uint32_t>(tree.leaf_prims().size()), tree.bounds()};
-}
-
-namespace {
-
-// Counting hooks: NoCounts compiles to nothing, so kd_intersect pays no cost for them.
-struct NoCounts {
-  void step() {}
-  void leaf() {}
-  void test() {}
-};
-struct Counting {
-  KdTraversalCounts& c;
-  void step() { ++c.inner_steps; }
-  void leaf() { ++c.leaves; }
-  void test() { ++c.triangle_tests; }
-};
-
-template <typename Counter>
-Hit intersect_closest(const KdTreeView& tree, const Ray& ray, Counter counter) {
-  Hit best;
-  TraversalRay tr;
-  double tmin, tmax;
-  const Plan plan = setup(tree, ray, tr, tmin, tmax);
-  if (plan == Plan::Miss) return best;
-  if (plan == Plan::Scan) return scan_intersect(tree, ray);
-
+bool kd_slot_hit(const KdTreeView& tree, const Ray& ray, std::uint32_t slot, float limit, float out_tuv[3]) {
   const WatertightRay wr(ray);
-  bool has_hit = false;
-  float best_t = ray.tfar;
-  StackEntry stack[kKdStackSize];
-  int sp = 0;
-  std::uint32_t node = 0;
-  for (;;) {
-    const KdNode n = tree.nodes[node];
-    if (!n.is_leaf()) {
-      counter.step();
-      node = descend(n, tr, tmin, tmax, stack, sp);
-      continue;
-    }
-    counter.leaf();
-    const std::uint32_t first = n.first_slot(), end = first + n.count();
-    for (std::uint32_t slot = first; slot < end; ++slot) {
-      counter.test();
-      glm::vec3 v[3];
-      load_triangle(tree, slot, v);
-      // Accept t == best_t too, so an exact tie can go to the lower index.
-      const float limit = has_hit ? std::nextafter(best_t, kInfinity) : ray.tfar;
-      TriangleHit th;
-      if (!intersect_watertight(wr, v[0], v[1], v[2], limit, th)) continue;
-      const std::uint32_t prim = tree.prims[slot];
-      if (!has_hit || th.t < best_t || prim < best.prim) {
-        best = {th.t, prim, th.u, th.v};
-        best_t = th.t;
-        has_hit = true;
-      }
-    }
-    // Next cell on the stack that can still hold a hit at or before best_t.
-    for (;;) {
-      if (sp == 0) return best;
-      const StackEntry& e = stack[--sp];
-      if (has_hit && double(best_t) < e.tmin - tr.slack(e.tmin)) continue;
-      node = e.node;
-      tmin = e.tmin;
-      tmax = e.tmax;
-      break;
-    }
-  }
+  glm::vec3 v[3];
+  load_triangle(tree, slot, v);
+  TriangleHit th;
+  if (!intersect_watertight(wr, v[0], v[1], v[2], limit, th)) return false;
+  out_tuv[0] = th.t;
+  out_tuv[1] = th.u;
+  out_tuv[2] = th.v;
+  return true;
 }
 
-}  // namespace
-
-Hit kd_intersect(const KdTreeView& tree, const Ray& ray) { return intersect_closest(tree, ray, NoCounts{}); }
-
-Hit kd_intersect_counted(const KdTreeView& tree, const Ray& ray, KdTraversalCounts& counts) {
-  return intersect_closest(tree, ray, Counting{counts});
-}
-
-bool kd_occluded(const KdTreeView& tree, const Ray& ray) {
-  TraversalRay tr;
-  double tmin, tmax;
-  const Plan plan = setup(tree, ray, tr, tmin, tmax);
-  if (plan == Plan::Miss) return false;
-  if (plan == Plan::Scan) return scan_occluded(tree, ray);
-
-  const WatertightRay wr(ray);
-  StackEntry stack[kKdStackSize];
-  int sp = 0;
-  std::uint32_t node = 0;
-  for (;;) {
-    const KdNode n = tree.nodes[node];
-    if (!n.is_leaf()) {
-      node = descend(n, tr, tmin, tmax, stack, sp);
-      continue;
-    }
-    const std::uint32_t first = n.first_slot(), end = first + n.count();
-    for (std::uint32_t slot = first; slot < end; ++slot) {
-      glm::vec3 v[3];
-      load_triangle(tree, slot, v);
-      TriangleHit th;
-      if (intersect_watertight(wr, v[0], v[1], v[2], ray.tfar, th)) return true;
-    }
-    if (sp == 0) return false;
-    const StackEntry& e = stack[--sp];
-    node = e.node;
-    tmin = e.tmin;
-    tmax = e.tmax;
-  }
+KdKernels select_kd_kernels(Isa isa) {
+  if (isa == Isa::Scalar) return scalar::kd_kernels();
+#if defined(__x86_64__) || defined(_M_X64)
+  if (isa == Isa::Sse4) return sse4::kd_kernels();
+  if (isa == Isa::Avx2) return avx2::kd_kernels();
+  if (isa == Isa::Avx512) return avx512::kd_kernels();
+#endif
+  throw std::invalid_argument("kd-tree: this build has no traversal kernels for the " + std::string(isa_name(isa)) +
+                              " instruction set");
 }
 
 }  // namespace lancer

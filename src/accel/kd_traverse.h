@@ -1,4 +1,8 @@
-// Single-ray traversal of the kd-tree: closest hit and any hit.
+// Single-ray traversal of the kd-tree (closest hit and any hit) and its per-ISA dispatch.
+//
+// One kernel per instruction set (kd_traverse_<isa>.cpp instantiates kd_traverse-inl.h in
+// namespace lancer::<isa>); all give exactly the oracle's answers. The kernels are picked
+// once through a plain table of function pointers (select_kd_kernels).
 #pragma once
 
 #include <cstdint>
@@ -6,6 +10,7 @@
 #include "accel/kd_node.h"
 #include "accel/ray.h"
 #include "accel/triangle_soa.h"
+#include "simd/isa.h"
 
 namespace lancer {
 
@@ -14,29 +19,40 @@ class KdTree;
 // What the traversal reads; cheap to copy.
 struct KdTreeView {
   const KdNode* nodes;
-  const KdTriangleBlock<kKdBlockWidth>* blocks;
+  const float* blocks;         // KdTriangleBlock<block_width> layout, 9 * block_width floats each
   const std::uint32_t* prims;  // per slot, kNoHit for padding
   std::uint32_t slot_count;
+  std::uint32_t block_width;
   Bounds3 bounds;
 };
 
 KdTreeView view(const KdTree& tree);
 
-// Closest hit with ray.tnear <= t < ray.tfar, ties in t to the lowest triangle index:
-// the same triangle and the bit-identical t, u, v that BruteForce returns.
-Hit kd_intersect(const KdTreeView& tree, const Ray& ray);
-
 // Work done by one or more traversals, for the cost measurements and statistics.
 struct KdTraversalCounts {
   std::uint64_t inner_steps = 0;
   std::uint64_t leaves = 0;
-  std::uint64_t triangle_tests = 0;
+  std::uint64_t triangle_tests = 0;  // triangles tested (a SIMD leaf test counts its live lanes)
 };
 
-// kd_intersect that also adds up the work it does (slower: for measurements only).
-Hit kd_intersect_counted(const KdTreeView& tree, const Ray& ray, KdTraversalCounts& counts);
-
+// Closest hit with ray.tnear <= t < ray.tfar, ties in t to the lowest triangle index:
+// the same triangle and the bit-identical t, u, v that BruteForce returns.
+using KdIntersectFn = Hit (*)(const KdTreeView& tree, const Ray& ray);
+// The same, also adding up the work done (slower: for measurements only).
+using KdIntersectCountedFn = Hit (*)(const KdTreeView& tree, const Ray& ray, KdTraversalCounts& counts);
 // True when some triangle is hit with ray.tnear <= t < ray.tfar (BruteForce::occluded).
-bool kd_occluded(const KdTreeView& tree, const Ray& ray);
+using KdOccludedFn = bool (*)(const KdTreeView& tree, const Ray& ray);
+
+struct KdKernels {
+  Isa isa;
+  int block_width;  // the leaf block width these kernels read (a multiple of the vector width)
+  KdIntersectFn intersect;
+  KdIntersectCountedFn intersect_counted;
+  KdOccludedFn occluded;
+};
+
+// The kernels of one ISA. Throws std::invalid_argument when this build has none for it
+// (the x86 ISAs on other machines). Does not check the CPU: see cpu_supports.
+KdKernels select_kd_kernels(Isa isa);
 
 }  // namespace lancer

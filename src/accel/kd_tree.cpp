@@ -9,8 +9,19 @@
 
 namespace lancer {
 
-KdTree::KdTree(const TriangleSoA& tris, const KdBuildOptions& options)
-    : options_(options), triangle_count_(tris.size()) {
+namespace {
+
+KdKernels checked_kernels(Isa isa) {
+  if (!cpu_supports(isa))
+    throw std::invalid_argument("kd-tree: this CPU does not support the " + std::string(isa_name(isa)) +
+                                " instruction set");
+  return select_kd_kernels(isa);
+}
+
+}  // namespace
+
+KdTree::KdTree(const TriangleSoA& tris, const KdBuildOptions& options, Isa isa)
+    : options_(options), kernels_(checked_kernels(isa)), triangle_count_(tris.size()) {
   const auto start = std::chrono::steady_clock::now();
   KdBuildOutput built = build_kd_tree(tris, options);
   bounds_ = built.bounds;
@@ -22,21 +33,18 @@ KdTree::KdTree(const TriangleSoA& tris, const KdBuildOptions& options)
   build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
-// Copies each leaf's triangles, in leaf order, into SoA blocks; a leaf starts a new block,
-// and its last block is padded with NaN triangles (never hit) and kNoHit indices.
+// Copies each leaf's triangles, in leaf order, into SoA blocks of the kernels' width (the
+// KdTriangleBlock layout); a leaf starts a new block, and its last block is padded with
+// NaN triangles (never hit) and kNoHit indices.
 void KdTree::lay_out_leaves(const TriangleSoA& tris, const KdBuildOutput& built) {
-  constexpr std::size_t W = kKdBlockWidth;
+  const std::size_t W = static_cast<std::size_t>(kernels_.block_width);
   std::size_t slots = 0;
   for (const KdNode& n : nodes_)
     if (n.is_leaf()) slots += (n.count() + W - 1) / W * W;
   if (slots > kKdMaxOffset)
     throw std::length_error("kd-tree: " + std::to_string(slots) + " leaf slots exceed the 30-bit node offsets");
 
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  blocks_.assign(slots / W, Block{});
-  for (Block& b : blocks_)
-    for (int k = 0; k < 3; ++k)
-      for (std::size_t l = 0; l < W; ++l) b.x[k][l] = b.y[k][l] = b.z[k][l] = nan;
+  blocks_.assign(slots * 9, std::numeric_limits<float>::quiet_NaN());
   leaf_prims_.assign(slots, kNoHit);
 
   std::size_t cursor = 0;
@@ -46,12 +54,11 @@ void KdTree::lay_out_leaves(const TriangleSoA& tris, const KdBuildOutput& built)
     for (std::uint32_t i = 0; i < count; ++i) {
       const std::uint32_t tri = built.prims[first + i];
       const std::size_t slot = cursor + i;
-      Block& b = blocks_[slot / W];
-      const std::size_t lane = slot % W;
-      for (int k = 0; k < 3; ++k) {
-        b.x[k][lane] = tris.x[k][tri];
-        b.y[k][lane] = tris.y[k][tri];
-        b.z[k][lane] = tris.z[k][tri];
+      float* lane = blocks_.data() + slot / W * 9 * W + slot % W;  // x[0] of this slot
+      for (std::size_t k = 0; k < 3; ++k) {
+        lane[k * W] = tris.x[k][tri];
+        lane[(3 + k) * W] = tris.y[k][tri];
+        lane[(6 + k) * W] = tris.z[k][tri];
       }
       leaf_prims_[slot] = tri;
     }
@@ -60,13 +67,15 @@ void KdTree::lay_out_leaves(const TriangleSoA& tris, const KdBuildOutput& built)
   }
 }
 
-Hit KdTree::intersect(const Ray& ray) const { return kd_intersect(view(*this), ray); }
-
-bool KdTree::occluded(const Ray& ray) const { return kd_occluded(view(*this), ray); }
+glm::vec3 KdTree::slot_vertex(std::uint32_t slot, int k) const {
+  const std::size_t w = static_cast<std::size_t>(block_width());
+  const float* lane = blocks_.data() + slot / w * 9 * w + slot % w;
+  return {lane[std::size_t(k) * w], lane[(3 + std::size_t(k)) * w], lane[(6 + std::size_t(k)) * w]};
+}
 
 std::size_t KdTree::memory_bytes() const {
   return nodes_.capacity() * sizeof(KdNode) + leaf_prims_.capacity() * sizeof(std::uint32_t) +
-         blocks_.capacity() * sizeof(Block);
+         blocks_.capacity() * sizeof(float);
 }
 
 }  // namespace lancer

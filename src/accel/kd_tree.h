@@ -1,5 +1,6 @@
 // Lancer's kd-tree accelerator: SAH (or naive) build, 8-byte nodes, leaf triangles copied
-// in SoA blocks, single-ray front-to-back traversal that gives exactly the oracle's answer.
+// in SoA blocks as wide as the chosen ISA's vectors, single-ray front-to-back traversal
+// (one kernel per ISA, kd_traverse.h) that gives exactly the oracle's answer.
 #pragma once
 
 #include <cstddef>
@@ -10,19 +11,25 @@
 #include "accel/accelerator.h"
 #include "accel/kd_build.h"
 #include "accel/kd_node.h"
+#include "accel/kd_traverse.h"
+#include "simd/isa.h"
 
 namespace lancer {
 
 class KdTree final : public Accelerator {
  public:
-  using Block = KdTriangleBlock<kKdBlockWidth>;
-
   // Copies what it needs: `tris` may be destroyed afterwards. Builds with oneTBB in the
-  // current task arena; the tree is the same for every thread count.
-  explicit KdTree(const TriangleSoA& tris, const KdBuildOptions& options = {});
+  // current task arena; the tree is the same for every thread count. Traverses with the
+  // kernels of `isa` (the best this CPU runs by default); throws std::invalid_argument when
+  // the CPU or this build lacks that ISA. The leaf blocks are laid out for it.
+  explicit KdTree(const TriangleSoA& tris, const KdBuildOptions& options = {}, Isa isa = best_supported_isa());
 
-  Hit intersect(const Ray& ray) const override;
-  bool occluded(const Ray& ray) const override;
+  Hit intersect(const Ray& ray) const override { return kernels_.intersect(view(*this), ray); }
+  bool occluded(const Ray& ray) const override { return kernels_.occluded(view(*this), ray); }
+  // intersect that also adds up the work done (for measurements).
+  Hit intersect_counted(const Ray& ray, KdTraversalCounts& counts) const {
+    return kernels_.intersect_counted(view(*this), ray, counts);
+  }
   std::size_t memory_bytes() const override;
   std::string_view name() const override { return "kdtree"; }
 
@@ -31,7 +38,13 @@ class KdTree final : public Accelerator {
   // Per slot: the triangle index, kNoHit for padding. Leaf ranges start at multiples of
   // the block width.
   const std::vector<std::uint32_t>& leaf_prims() const { return leaf_prims_; }
-  const AlignedVector<Block>& blocks() const { return blocks_; }
+  // The leaf triangles: blocks of KdTriangleBlock<block_width()> layout, 9 * block_width()
+  // floats each, slot s in block s / block_width() at lane s % block_width().
+  const AlignedVector<float>& blocks() const { return blocks_; }
+  int block_width() const { return kernels_.block_width; }
+  // Vertex k of the triangle in `slot`, as stored (NaN for padding).
+  glm::vec3 slot_vertex(std::uint32_t slot, int k) const;
+  Isa isa() const { return kernels_.isa; }
   const Bounds3& bounds() const { return bounds_; }
   const KdBuildOptions& options() const { return options_; }
   std::size_t triangle_count() const { return triangle_count_; }
@@ -47,7 +60,8 @@ class KdTree final : public Accelerator {
   Bounds3 bounds_;
   std::vector<KdNode> nodes_;
   std::vector<std::uint32_t> leaf_prims_;
-  AlignedVector<Block> blocks_;
+  KdKernels kernels_;
+  AlignedVector<float> blocks_;
   std::size_t triangle_count_ = 0;
   std::size_t references_ = 0;
   std::size_t reference_budget_ = 0;

@@ -2,6 +2,7 @@
 #include <bit>
 #include <cmath>
 #include <sstream>
+#include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
@@ -62,7 +63,8 @@ void check_invariants(const KdTree& kd, const TriangleSoA& t) {
       todo.push_back({n.right_child(), r});
       continue;
     }
-    EXPECT_EQ(n.first_slot() % kKdBlockWidth, 0u);
+    const std::uint32_t w = static_cast<std::uint32_t>(kd.block_width());
+    EXPECT_EQ(n.first_slot() % w, 0u);
     ASSERT_LE(n.first_slot() + n.count(), kd.leaf_prims().size());
     for (std::uint32_t i = 0; i < n.count(); ++i) {
       const std::uint32_t slot = n.first_slot() + i, tri = kd.leaf_prims()[slot];
@@ -71,16 +73,16 @@ void check_invariants(const KdTree& kd, const TriangleSoA& t) {
         EXPECT_LT(kd.leaf_prims()[slot - 1], tri);
       }
       referenced[tri] = true;
-      const KdTree::Block& b = kd.blocks()[slot / kKdBlockWidth];
       for (int k = 0; k < 3; ++k) {
-        EXPECT_EQ(std::bit_cast<std::uint32_t>(b.x[k][slot % kKdBlockWidth]), std::bit_cast<std::uint32_t>(t.x[k][tri]));
-        EXPECT_EQ(std::bit_cast<std::uint32_t>(b.y[k][slot % kKdBlockWidth]), std::bit_cast<std::uint32_t>(t.y[k][tri]));
-        EXPECT_EQ(std::bit_cast<std::uint32_t>(b.z[k][slot % kKdBlockWidth]), std::bit_cast<std::uint32_t>(t.z[k][tri]));
+        const glm::vec3 v = kd.slot_vertex(slot, k);
+        EXPECT_EQ(std::bit_cast<std::uint32_t>(v.x), std::bit_cast<std::uint32_t>(t.x[k][tri]));
+        EXPECT_EQ(std::bit_cast<std::uint32_t>(v.y), std::bit_cast<std::uint32_t>(t.y[k][tri]));
+        EXPECT_EQ(std::bit_cast<std::uint32_t>(v.z), std::bit_cast<std::uint32_t>(t.z[k][tri]));
       }
     }
-    for (std::uint32_t slot = n.first_slot() + n.count(); slot % kKdBlockWidth != 0; ++slot) {
+    for (std::uint32_t slot = n.first_slot() + n.count(); slot % w != 0; ++slot) {
       EXPECT_EQ(kd.leaf_prims()[slot], kNoHit);
-      EXPECT_TRUE(std::isnan(kd.blocks()[slot / kKdBlockWidth].x[0][slot % kKdBlockWidth]));
+      EXPECT_TRUE(std::isnan(kd.slot_vertex(slot, 0).x));
     }
   }
   EXPECT_EQ(parents[0], 0);
@@ -88,16 +90,19 @@ void check_invariants(const KdTree& kd, const TriangleSoA& t) {
   for (std::size_t i = 0; i < t.size(); ++i) EXPECT_TRUE(referenced[i]) << "triangle " << i << " is in no leaf";
 }
 
+// For every split and every ISA's block width.
 TEST(KdLayout, BuiltTreeInvariants) {
   Scene s = make_random_triangle_soup(3000, 41, {{-1, -1, -1}, {1, 1, 1}}, 0.2f);
   append_icosphere(s, {0.0f, 0.0f, 0.0f}, 0.5f, 3, 0);
-  for (KdSplit split : {KdSplit::Sah, KdSplit::Middle, KdSplit::Median}) {
-    KdBuildOptions o;
-    o.split = split;
-    const KdTree kd(s.triangles, o);
-    EXPECT_GT(kd.nodes().size(), 100u);
-    check_invariants(kd, s.triangles);
-  }
+  for (Isa isa : supported_isas())
+    for (KdSplit split : {KdSplit::Sah, KdSplit::Middle, KdSplit::Median}) {
+      KdBuildOptions o;
+      o.split = split;
+      const KdTree kd(s.triangles, o, isa);
+      SCOPED_TRACE(std::string(isa_name(isa)));
+      EXPECT_GT(kd.nodes().size(), 100u);
+      check_invariants(kd, s.triangles);
+    }
 }
 
 TEST(KdLayout, StatisticsAreConsistent) {

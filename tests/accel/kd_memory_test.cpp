@@ -33,7 +33,7 @@ void expect_within_bounds(const KdTree& kd, std::size_t n, float factor, const s
   EXPECT_LE(kd.depth_bound(), kKdMaxDepth) << what;
   EXPECT_EQ(kd.depth_bound(), kd_depth_bound(n, kd.options().max_depth)) << what;
   // Memory: nodes, plus one padded slot range per leaf of 36 bytes of vertices + 4 of index.
-  const std::size_t slots = s.references + s.leaves * (kKdBlockWidth - 1);
+  const std::size_t slots = s.references + s.leaves * std::size_t(kd.block_width() - 1);
   EXPECT_LE(kd.leaf_prims().size(), slots) << what;
   EXPECT_LE(kd.memory_bytes(), 2 * (s.nodes * sizeof(KdNode) + slots * 40)) << what;
 }

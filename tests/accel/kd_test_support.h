@@ -16,8 +16,27 @@
 #include "accel/brute_force.h"
 #include "accel/kd_tree.h"
 #include "accel/ray_offset.h"
+#include "simd/isa.h"
 
 namespace lancer::test {
+
+// The kd-tree tests that compare with the oracle run once per ISA (its traversal kernels
+// and its leaf block width), named e.g. AllIsas/KdVsOracle.SmallRandomSoup/avx2; an ISA
+// this CPU lacks is skipped with a message. Each ISA gets its own rays (isa_seed).
+class KdIsaTest : public ::testing::TestWithParam<Isa> {
+ protected:
+  void SetUp() override {
+    if (!cpu_supports(GetParam())) GTEST_SKIP() << "this CPU does not support " << isa_name(GetParam());
+  }
+  Isa isa() const { return GetParam(); }
+  std::uint64_t isa_seed() const { return 0x10001ull * static_cast<std::uint64_t>(GetParam()); }
+};
+
+inline std::vector<Isa> kd_test_isas() { return {Isa::Scalar, Isa::Sse4, Isa::Avx2, Isa::Avx512}; }
+
+inline std::string kd_isa_param_name(const ::testing::TestParamInfo<Isa>& info) {
+  return std::string(isa_name(info.param));
+}
 
 // splitmix64: a fixed recipe, the same stream on every platform.
 class TestRng {

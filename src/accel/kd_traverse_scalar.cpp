@@ -1,0 +1,17 @@
+// The scalar kd-tree traversal kernels (width 1: one triangle at a time), on every
+// machine. Blocks stay 4 wide, the smallest padding the layout allows.
+#define LANCER_ISA scalar
+#include "simd/vfloat1_scalar.h"
+#include "accel/kd_traverse-inl.h"
+
+namespace lancer::scalar {
+
+template Hit kd_intersect<1, 4>(const KdTreeView&, const Ray&);
+template Hit kd_intersect_counted<1, 4>(const KdTreeView&, const Ray&, KdTraversalCounts&);
+template bool kd_occluded<1, 4>(const KdTreeView&, const Ray&);
+
+KdKernels kd_kernels() {
+  return {Isa::Scalar, 4, &kd_intersect<1, 4>, &kd_intersect_counted<1, 4>, &kd_occluded<1, 4>};
+}
+
+}  // namespace lancer::scalar

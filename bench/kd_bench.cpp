@@ -2,116 +2,35 @@
 // rays) for SAH, middle and median trees, on procedural spheres and on the Stanford bunny
 // when the shared meshes are present; plus BM_KdCost, which measures the SAH constants.
 //
-// Names: BM_KdBuild/<split>/<scene>, BM_KdTrace/<split>/<isa>/<rays>/<scene> and
-// BM_KdCost/<isa>/spheres, for every ISA this CPU supports (scalar included).
+// Names: BM_KdBuild/<split>/<scene>, BM_KdTrace/<split>/<isa>/<rays>/<1thread|allthreads>/<scene>
+// and BM_KdCost/<isa>/spheres, for every ISA this CPU supports (scalar included). Scenes
+// and rays come from bench_scenes.h, shared with the Embree baseline.
 #include <benchmark/benchmark.h>
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
-#include <ctime>
-#include <cmath>
 #include <cstdint>
 #include <cstdio>
-#include <filesystem>
-#include <map>
+#include <ctime>
 #include <memory>
-#include <mutex>
 #include <string>
 #include <vector>
 
-#include <glm/geometric.hpp>
-
 #include "accel/kd_traverse.h"
 #include "accel/kd_tree.h"
-#include "accel/ray_offset.h"
-#include "accel/watertight.h"
+#include "bench_scenes.h"
 #include "simd/isa.h"
-#include "scene/load_scene.h"
-#include "scene/procedural.h"
 
 namespace {
 
 using namespace lancer;
-
-std::filesystem::path models_dir() {
-  if (const char* env = std::getenv("LANCER_MODELS_DIR")) return env;
-  return std::filesystem::path(__FILE__).parent_path().parent_path().parent_path() / "shared" / "scenes" / "models";
-}
-
-// Scenes are loaded once, on first use.
-const TriangleSoA& scene(const std::string& name) {
-  static std::mutex mutex;
-  static std::map<std::string, std::unique_ptr<Scene>> cache;
-  std::lock_guard<std::mutex> lock(mutex);
-  auto& slot = cache[name];
-  if (!slot) {
-    slot = std::make_unique<Scene>();
-    if (name == "bunny") {
-      *slot = load_scene(models_dir() / "stanford-bunny.obj");
-    } else {  // "spheres": 100k triangles of spheres of different sizes and tessellations
-      append_icosphere(*slot, {0.0f, 0.0f, 0.0f}, 1.0f, 6, 0);
-      append_icosphere(*slot, {2.5f, 0.0f, 0.5f}, 0.6f, 4, 0);
-      append_uv_sphere(*slot, {-2.0f, 0.5f, -0.5f}, 0.8f, 96, 48, 0);
-      for (int i = 0; i < 8; ++i)
-        append_icosphere(*slot, {-3.0f + 0.8f * float(i), -1.8f, 0.0f}, 0.3f, 2, 0);
-    }
-  }
-  return slot->triangles;
-}
+using bench::diffuse_rays;
+using bench::primary_rays;
+using bench::scene;
 
 KdSplit split_of(const std::string& s) {
   return s == "middle" ? KdSplit::Middle : s == "median" ? KdSplit::Median : KdSplit::Sah;
-}
-
-std::uint64_t mix(std::uint64_t z) {
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-float unit(std::uint64_t& s) { return float(mix(s += 0x9E3779B97F4A7C15ull) >> 40) * 0x1.0p-24f; }
-
-// A 256 x 256 pinhole camera looking at the scene's centre from 2.5 box diagonals away.
-std::vector<Ray> primary_rays(const TriangleSoA& t) {
-  const Bounds3 b = t.bounds();
-  const glm::vec3 c = b.center(), e = b.extent();
-  const float diag = std::sqrt(e.x * e.x + e.y * e.y + e.z * e.z);
-  const glm::vec3 eye = c + glm::vec3(0.3f, 0.4f, 1.0f) * (1.2f * diag);
-  const glm::vec3 fwd = glm::normalize(c - eye);
-  const glm::vec3 right = glm::normalize(glm::vec3(fwd.z, 0.0f, -fwd.x));
-  const glm::vec3 up = glm::vec3(right.y * fwd.z - right.z * fwd.y, right.z * fwd.x - right.x * fwd.z,
-                                 right.x * fwd.y - right.y * fwd.x);
-  const int n = 256;
-  std::vector<Ray> rays;
-  for (int y = 0; y < n; ++y)
-    for (int x = 0; x < n; ++x) {
-      Ray r;
-      r.org = eye;
-      const float sx = (x + 0.5f) / n - 0.5f, sy = (y + 0.5f) / n - 0.5f;
-      r.dir = fwd + 0.8f * (sx * right + sy * up);
-      rays.push_back(r);
-    }
-  return rays;
-}
-
-// One diffuse bounce from every primary hit: origin offset along the normal, direction
-// uniform in the hemisphere.
-std::vector<Ray> diffuse_rays(const TriangleSoA& t, const KdTree& kd) {
-  std::vector<Ray> out;
-  std::uint64_t seed = 7;
-  for (const Ray& r : primary_rays(t)) {
-    const Hit h = kd.intersect(r);
-    if (!h.valid()) continue;
-    const glm::vec3 a = t.vertex(h.prim, 0);
-    glm::vec3 n = glm::cross(t.vertex(h.prim, 1) - a, t.vertex(h.prim, 2) - a);
-    if (glm::dot(n, r.dir) > 0.0f) n = -n;
-    n = glm::normalize(n);
-    Ray s;
-    s.org = offset_ray_origin(r.org + h.t * r.dir, n);
-    do {
-      s.dir = glm::vec3(unit(seed), unit(seed), unit(seed)) * 2.0f - 1.0f;
-    } while (glm::dot(s.dir, s.dir) > 1.0f || glm::dot(s.dir, s.dir) < 1e-4f);
-    if (glm::dot(s.dir, n) < 0.0f) s.dir = -s.dir;
-    out.push_back(s);
-  }
-  return out;
 }
 
 void bm_build(benchmark::State& state, std::string split, std::string name) {
@@ -126,15 +45,24 @@ void bm_build(benchmark::State& state, std::string split, std::string name) {
       benchmark::Counter(double(t.size()) * double(state.iterations()), benchmark::Counter::kIsRate);
 }
 
-void bm_trace(benchmark::State& state, std::string split, Isa isa, std::string kind, std::string name) {
+// threads == 0: every core, the rays split into chunks of 1024 over oneTBB.
+void bm_trace(benchmark::State& state, std::string split, Isa isa, std::string kind, std::string name, int threads) {
   const TriangleSoA& t = scene(name);
   KdBuildOptions o;
   o.split = split_of(split);
   const KdTree kd(t, o, isa);
   const std::vector<Ray> rays = kind == "primary" ? primary_rays(t) : diffuse_rays(t, kd);
+  std::vector<Hit> hits(rays.size());
+  tbb::task_arena arena(threads > 0 ? threads : tbb::task_arena::automatic);
   std::int64_t n = 0;
   for (auto _ : state) {
-    for (const Ray& r : rays) benchmark::DoNotOptimize(kd.intersect(r));
+    arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 1024),
+                        [&](const tbb::blocked_range<std::size_t>& r) {
+                          for (std::size_t i = r.begin(); i != r.end(); ++i) hits[i] = kd.intersect(rays[i]);
+                        });
+    });
+    benchmark::DoNotOptimize(hits.data());
     n += static_cast<std::int64_t>(rays.size());
   }
   state.counters["rays/s"] = benchmark::Counter(double(n), benchmark::Counter::kIsRate);
@@ -157,7 +85,7 @@ double cpu_seconds() {
 void bm_cost(benchmark::State& state, Isa isa) {
   const TriangleSoA& t = scene("spheres");
   const std::vector<Ray> rays = diffuse_rays(t, KdTree(t));
-  const float ratios[] = {0.25f, 0.5f, 1.0f, 2.0f, 4.0f, 8.0f};
+  const float ratios[] = {0.0625f, 0.125f, 0.25f, 0.5f, 1.0f, 2.0f};
   std::vector<std::unique_ptr<KdTree>> trees;
   std::vector<double> steps, tests;
   for (float ratio : ratios) {
@@ -217,18 +145,19 @@ void bm_cost(benchmark::State& state, Isa isa) {
 
 struct Registration {
   Registration() {
-    std::vector<std::string> scenes{"spheres"};
-    if (std::filesystem::exists(models_dir() / "stanford-bunny.obj")) scenes.push_back("bunny");
-    for (const std::string& name : scenes)
+    for (const std::string& name : bench::scene_names())
       for (const char* split : {"sah", "middle", "median"}) {
         benchmark::RegisterBenchmark(("BM_KdBuild/" + std::string(split) + "/" + name).c_str(), bm_build, split, name)
             ->Unit(benchmark::kMillisecond);
         for (Isa isa : supported_isas())
-          for (const char* kind : {"primary", "diffuse"}) {
-            const std::string bm = "BM_KdTrace/" + std::string(split) + "/" + std::string(isa_name(isa)) + "/" + kind +
-                                   "/" + name;
-            benchmark::RegisterBenchmark(bm.c_str(), bm_trace, split, isa, kind, name)->Unit(benchmark::kMillisecond);
-          }
+          for (const char* kind : {"primary", "diffuse"})
+            for (const int threads : {1, 0}) {
+              const std::string bm = "BM_KdTrace/" + std::string(split) + "/" + std::string(isa_name(isa)) + "/" +
+                                     kind + "/" + (threads == 1 ? "1thread/" : "allthreads/") + name;
+              benchmark::RegisterBenchmark(bm.c_str(), bm_trace, split, isa, kind, name, threads)
+                  ->Unit(benchmark::kMillisecond)
+                  ->UseRealTime();
+            }
       }
     for (Isa isa : supported_isas())
       benchmark::RegisterBenchmark(("BM_KdCost/" + std::string(isa_name(isa)) + "/spheres").c_str(), bm_cost, isa)

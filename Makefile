@@ -3,7 +3,7 @@ JOBS ?= $(shell nproc)
 BUILD := build/release
 LANCER := $(BUILD)/lancer
 
-.PHONY: render test build configure deps bench-micro test-sanitize clean
+.PHONY: render test build configure deps bench-micro bench-embree test-sanitize clean
 
 deps:
 	@scripts/install-deps.sh
@@ -23,8 +23,15 @@ render: configure
 test: build
 	ctest --test-dir $(BUILD) -j $(JOBS) --output-on-failure
 
+# Medians over repetitions: the machine is shared and noisy (see docs/performance.md).
+BENCH_FLAGS ?= --benchmark_repetitions=3 --benchmark_report_aggregates_only=true
+
 bench-micro: build
-	$(BUILD)/bench/lancer_bench_micro
+	$(BUILD)/bench/lancer_bench_micro $(BENCH_FLAGS)
+
+# Lancer beside Embree 3 on the same triangles and rays (built when Embree is installed).
+bench-embree: build
+	$(BUILD)/bench/lancer_bench_embree $(BENCH_FLAGS)
 
 test-sanitize: deps
 	cmake --preset sanitize >/dev/null

@@ -28,8 +28,8 @@ std::optional<KdSplit> parse_kd_split(std::string_view name) {
 }
 
 std::unique_ptr<Accelerator> make_accelerator(std::string_view name, const TriangleSoA& tris,
-                                              const KdBuildOptions& kd) {
-  if (name == "kdtree") return std::make_unique<KdTree>(tris, kd);
+                                              const KdBuildOptions& kd, Isa isa) {
+  if (name == "kdtree") return std::make_unique<KdTree>(tris, kd, isa);
   if (name == "brute") return std::make_unique<BruteForce>(tris);
   throw std::invalid_argument("unknown accelerator '" + std::string(name) + "'");
 }

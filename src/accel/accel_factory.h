@@ -9,6 +9,7 @@
 
 #include "accel/accelerator.h"
 #include "accel/kd_build.h"
+#include "simd/isa.h"
 
 namespace lancer {
 
@@ -19,9 +20,9 @@ std::vector<std::string_view> kd_split_names();
 std::string_view kd_split_name(KdSplit split);
 std::optional<KdSplit> parse_kd_split(std::string_view name);
 
-// Throws std::invalid_argument for an unknown name. `tris` must outlive the result.
-// `kd` applies to the kd-tree only.
+// Throws std::invalid_argument for an unknown name, or an ISA this CPU lacks. `tris` must
+// outlive the result. `kd` and `isa` apply to the kd-tree (the oracle is scalar).
 std::unique_ptr<Accelerator> make_accelerator(std::string_view name, const TriangleSoA& tris,
-                                              const KdBuildOptions& kd = {});
+                                              const KdBuildOptions& kd = {}, Isa isa = best_supported_isa());
 
 }  // namespace lancer

@@ -9,6 +9,7 @@
 #include "accel/accel_factory.h"
 #include "app/info_command.h"
 #include "app/render_command.h"
+#include "simd/isa.h"
 
 namespace lancer {
 
@@ -29,6 +30,12 @@ void add_kd_split_option(CLI::App& app, std::string& split) {
   for (auto n : kd_split_names()) names.emplace_back(n);
   app.add_option("--kd-split", split, "kd-tree split strategy: sah, or the naive middle and median")
       ->check(CLI::IsMember(names))->capture_default_str();
+}
+
+void add_isa_option(CLI::App& app, std::string& isa) {
+  app.add_option("--isa", isa, "Instruction set for the kd-tree kernels: scalar, sse4, avx2 or avx512")
+      ->check(CLI::IsMember({"scalar", "sse4", "avx2", "avx512"}))
+      ->default_str(std::string(isa_name(best_supported_isa())) + " (the best this CPU runs)");
 }
 
 void add_render_command(CLI::App& app, RenderOptions& opt) {
@@ -59,6 +66,7 @@ void add_render_command(CLI::App& app, RenderOptions& opt) {
   render->add_option("--accel", opt.accel, "Accelerator: kdtree, or brute (the scalar oracle)")
       ->check(CLI::IsMember(accels))->capture_default_str();
   add_kd_split_option(*render, opt.kd_split);
+  add_isa_option(*render, opt.isa);
   render->add_option("--camera", opt.camera, "Index of the scene camera to use")->check(CLI::NonNegativeNumber);
   add_vec3_option(*render, "--eye", opt.eye, "Camera position (overrides the scene camera)");
   add_vec3_option(*render, "--look-at", opt.look_at, "Point the camera looks at");
@@ -74,6 +82,7 @@ void add_info_command(CLI::App& app, InfoOptions& opt) {
   for (auto n : accelerator_names()) accels.emplace_back(n);
   info->add_option("--accel", opt.accel, "Accelerator to build and describe")->check(CLI::IsMember(accels))->capture_default_str();
   add_kd_split_option(*info, opt.kd_split);
+  add_isa_option(*info, opt.isa);
 }
 
 }  // namespace

@@ -34,10 +34,10 @@ int run_info(const InfoOptions& opt, std::ostream& out, std::ostream& err) {
 
     const auto t0 = std::chrono::steady_clock::now();
     const std::unique_ptr<Accelerator> accel =
-        make_accelerator(opt.accel, scene.triangles, kd_options_from(opt.kd_split));
+        make_accelerator(opt.accel, scene.triangles, kd_options_from(opt.kd_split), isa_from(opt.isa));
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (const auto* kd = dynamic_cast<const KdTree*>(accel.get())) {
-      out << "accel:      kdtree (" << opt.kd_split << ")\n";
+      out << "accel:      kdtree (" << opt.kd_split << "), isa " << isa_name(kd->isa()) << "\n";
       print_kd_stats(out, compute_kd_stats(*kd));
     } else {
       std::snprintf(line, sizeof line, "accel:      %s, built in %.1f ms, %zu bytes\n",

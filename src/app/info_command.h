@@ -10,6 +10,7 @@ struct InfoOptions {
   std::string scene;
   std::string accel = "kdtree";
   std::string kd_split = "sah";
+  std::string isa;  // empty: the best this CPU supports
 };
 
 int run_info(const InfoOptions& options, std::ostream& out, std::ostream& err);

@@ -74,6 +74,14 @@ KdBuildOptions kd_options_from(const std::string& split) {
   return kd;
 }
 
+Isa isa_from(const std::string& name) {
+  if (name.empty()) return best_supported_isa();
+  const auto isa = parse_isa(name);
+  if (!isa) throw std::invalid_argument("unknown ISA '" + name + "' (expected scalar, sse4, avx2 or avx512)");
+  if (!cpu_supports(*isa)) throw std::invalid_argument("--isa " + name + ": this CPU (or its operating system) does not support it");
+  return *isa;
+}
+
 int run_render(const RenderOptions& options, std::ostream& out, std::ostream& err) {
   try {
     RenderOptions opt = options;
@@ -98,7 +106,7 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
                                   " is too large (at most 2^28 pixels)");
 
     const auto t_build = std::chrono::steady_clock::now();
-    const std::unique_ptr<Accelerator> accel = make_accelerator(opt.accel, scene.triangles, kd_options_from(opt.kd_split));
+    const std::unique_ptr<Accelerator> accel = make_accelerator(opt.accel, scene.triangles, kd_options_from(opt.kd_split), isa_from(opt.isa));
     const double build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_build).count();
     const double load_s = std::chrono::duration<double>(t_build - t_load).count();
 
@@ -120,10 +128,11 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
     char line[512];
     const double mrays = stats.seconds > 0.0 ? static_cast<double>(stats.rays) / stats.seconds * 1e-6 : 0.0;
     std::snprintf(line, sizeof line,
-                  "lancer: %s %dx%d, %d spp, %s, accel %s (%zu triangles): load %.2f s, build %.2f s, "
+                  "lancer: %s %dx%d, %d spp, %s, accel %s, isa %s (%zu triangles): load %.2f s, build %.2f s, "
                   "render %.2f s, %.2f Mrays, %.2f Mrays/s",
                   scene.source.c_str(), s.width, s.height, s.spp, std::string(integrator_name(s.integrator)).c_str(),
-                  opt.accel.c_str(), scene.triangle_count(), load_s, build_s, stats.seconds,
+                  opt.accel.c_str(), std::string(isa_name(opt.accel == "brute" ? Isa::Scalar : isa_from(opt.isa))).c_str(),
+                  scene.triangle_count(), load_s, build_s, stats.seconds,
                   static_cast<double>(stats.rays) * 1e-6, mrays);
     out << line << "\n";
     for (const auto& o : opt.outputs) out << "wrote " << o << "\n";

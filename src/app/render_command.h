@@ -9,6 +9,7 @@
 #include <glm/vec3.hpp>
 
 #include "accel/kd_build.h"
+#include "simd/isa.h"
 #include "render/render_settings.h"
 
 namespace lancer {
@@ -20,6 +21,7 @@ struct RenderOptions {
   bool height_given = false;
   std::string accel = "kdtree";
   std::string kd_split = "sah";
+  std::string isa;  // empty: the best this CPU supports
   std::optional<int> camera;         // glTF camera index
   std::optional<glm::vec3> eye, look_at, up;
   std::optional<float> fov_degrees;  // vertical
@@ -29,6 +31,10 @@ struct RenderOptions {
 // Returns the process exit code; messages go to `err`, the summary line to `out`.
 // The kd-tree options `--kd-split` selects; throws std::invalid_argument on a bad name.
 KdBuildOptions kd_options_from(const std::string& split);
+
+// The ISA `--isa` names, or the best this CPU supports when empty; throws
+// std::invalid_argument for an unknown name or one this CPU cannot run.
+Isa isa_from(const std::string& name);
 
 int run_render(const RenderOptions& options, std::ostream& out, std::ostream& err);
 

@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "render/image_io.h"
+#include "simd/isa.h"
 #include "test_paths.h"
 
 namespace lancer {
@@ -49,7 +50,7 @@ TEST(Cli, HelpListsEveryRenderOption) {
   const CliResult r = run({"render", "--help"});
   EXPECT_EQ(r.code, 0);
   for (const char* opt : {"--output", "--width", "--height", "--spp", "--integrator", "--threads", "--seed", "--accel",
-                          "--camera", "--eye", "--look-at", "--up", "--fov", "--max-depth", "--kd-split"})
+                          "--camera", "--eye", "--look-at", "--up", "--fov", "--max-depth", "--kd-split", "--isa"})
     EXPECT_NE(r.out.find(opt), std::string::npos) << opt;
 }
 
@@ -64,6 +65,7 @@ TEST(Cli, AbsurdOptionsAreRefused) {
         {"render", cornell(), "--integrator", "magic"},
         {"render", cornell(), "--accel", "octree"},
         {"render", cornell(), "--kd-split", "sweep"},
+        {"render", cornell(), "--isa", "avx3"},
         {"render", cornell(), "--eye", "1,2"}}) {
     const CliResult r = run(args);
     EXPECT_EQ(r.code, 2) << args[2] << " " << args[3];
@@ -104,6 +106,16 @@ TEST(Cli, RendersExrAndPngWithSummary) {
   double sum = 0.0;
   for (float v : a.rgb) sum += v;
   EXPECT_GT(sum, 0.0) << "the lit Cornell box rendered black";
+}
+
+TEST(Cli, SummaryNamesTheIsaAndEveryIsaRenders) {
+  for (Isa isa : supported_isas()) {
+    const std::string name(isa_name(isa));
+    const CliResult r = run({"render", cornell(), "--width", "8", "--height", "8", "--spp", "1", "--no-progress",
+                             "--isa", name, "-o", (temp_dir() / ("i_" + name + ".png")).string()});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("isa " + name), std::string::npos) << r.out;
+  }
 }
 
 TEST(Cli, InfoDescribesTheScene) {

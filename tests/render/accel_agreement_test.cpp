@@ -8,15 +8,17 @@
 #include "render/camera.h"
 #include "render/renderer.h"
 #include "scene/load_scene.h"
+#include "simd/isa.h"
 #include "test_paths.h"
 
 namespace lancer {
 namespace {
 
-ImageRGB render_with(const Scene& scene, const std::string& accel, KdSplit split, IntegratorKind integrator) {
+ImageRGB render_with(const Scene& scene, const std::string& accel, KdSplit split, IntegratorKind integrator,
+                     Isa isa = best_supported_isa()) {
   KdBuildOptions kd;
   kd.split = split;
-  const std::unique_ptr<Accelerator> a = make_accelerator(accel, scene.triangles, kd);
+  const std::unique_ptr<Accelerator> a = make_accelerator(accel, scene.triangles, kd, isa);
   RenderSettings s;
   s.width = 48;
   s.height = 48;
@@ -37,6 +39,16 @@ TEST(AccelAgreement, KdTreeImagesEqualTheOraclesBitForBit) {
       EXPECT_EQ(std::memcmp(kd.rgb.data(), oracle.rgb.data(), kd.rgb.size() * sizeof(float)), 0)
           << kd_split_name(split) << " " << integrator_name(integrator);
     }
+  }
+}
+
+// Every ISA's kernels compute each lane exactly as the scalar oracle does.
+TEST(AccelAgreement, EveryIsaRendersTheOraclesImage) {
+  const Scene scene = load_scene(test::scenes_dir() / "cornell-box-spheres.gltf");
+  const ImageRGB oracle = render_with(scene, "brute", KdSplit::Sah, IntegratorKind::Whitted);
+  for (Isa isa : supported_isas()) {
+    const ImageRGB kd = render_with(scene, "kdtree", KdSplit::Sah, IntegratorKind::Whitted, isa);
+    EXPECT_EQ(std::memcmp(kd.rgb.data(), oracle.rgb.data(), kd.rgb.size() * sizeof(float)), 0) << isa_name(isa);
   }
 }
 

@@ -29,6 +29,7 @@ constexpr double kDegrees = 3.14159265358979323846 / 180.0;
 constexpr long long kMaxPixels = 1LL << 28;
 
 PinholeCamera choose_camera(const RenderOptions& opt, const Scene& scene, RenderSettings& s) {
+  if (!opt.height_given) s.height = s.width;  // square unless the scene camera says otherwise
   if (opt.eye || opt.look_at) {
     if (!opt.eye || !opt.look_at) throw std::invalid_argument("--eye and --look-at must be given together");
     const float fov = static_cast<float>(opt.fov_degrees.value_or(45.0f) * kDegrees);

@@ -118,6 +118,19 @@ TEST(Cli, SummaryNamesTheIsaAndEveryIsaRenders) {
   }
 }
 
+// Without --height the image is square, unless a glTF camera gives its aspect ratio.
+TEST(Cli, HeightFollowsWidthOrTheCameraAspect) {
+  const fs::path dir = temp_dir();
+  const fs::path obj = dir / "tri.obj";
+  std::ofstream(obj) << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
+  const fs::path png = dir / "square.png";
+  ASSERT_EQ(run({"render", obj.string(), "--width", "24", "--spp", "1", "--no-progress", "-o", png.string()}).code, 0);
+  EXPECT_EQ(read_image(png).height, 24);
+  ASSERT_EQ(run({"render", obj.string(), "--width", "24", "--height", "10", "--spp", "1", "--no-progress", "-o",
+                 png.string()}).code, 0);
+  EXPECT_EQ(read_image(png).height, 10);
+}
+
 TEST(Cli, InfoDescribesTheScene) {
   const CliResult r = run({"info", cornell()});
   ASSERT_EQ(r.code, 0) << r.err;

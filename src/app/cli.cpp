@@ -72,7 +72,8 @@ void add_render_command(CLI::App& app, RenderOptions& opt) {
   add_vec3_option(*render, "--look-at", opt.look_at, "Point the camera looks at");
   add_vec3_option(*render, "--up", opt.up, "Camera up direction (default 0,1,0)");
   render->add_option("--fov", opt.fov_degrees, "Vertical field of view in degrees")->check(CLI::Range(0.01, 179.0));
-  render->add_flag("--no-progress{false}", opt.progress, "Do not report progress on stderr");
+  render->add_flag_function(
+      "--no-progress", [&opt](std::int64_t) { opt.progress = false; }, "Do not report progress on stderr");
 }
 
 void add_info_command(CLI::App& app, InfoOptions& opt) {

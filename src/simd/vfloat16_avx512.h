@@ -203,7 +203,15 @@ inline vbool16 operator>=(vint16 a, vint16 b) { return vbool16(_mm512_cmp_epi32_
 inline vbool16 operator==(vint16 a, vint16 b) { return vbool16(_mm512_cmp_epi32_mask(a.v, b.v, _MM_CMPINT_EQ)); }
 inline vbool16 operator!=(vint16 a, vint16 b) { return vbool16(_mm512_cmp_epi32_mask(a.v, b.v, _MM_CMPINT_NE)); }
 
-inline std::int32_t reduce_add(vint16 a) { return _mm512_reduce_add_epi32(a.v); }
+// Not _mm512_reduce_add_epi32: GCC implements it with plain int additions, undefined on
+// overflow, while the lanes here wrap like every other vint operation.
+inline std::int32_t reduce_add(vint16 a) {
+  const __m256i s8 = _mm256_add_epi32(_mm512_castsi512_si256(a.v), _mm512_extracti64x4_epi64(a.v, 1));
+  __m128i s4 = _mm_add_epi32(_mm256_castsi256_si128(s8), _mm256_extracti128_si256(s8, 1));
+  s4 = _mm_add_epi32(s4, _mm_shuffle_epi32(s4, 0x4E));
+  s4 = _mm_add_epi32(s4, _mm_shuffle_epi32(s4, 0xB1));
+  return _mm_cvtsi128_si32(s4);
+}
 inline std::int32_t reduce_min(vint16 a) { return _mm512_reduce_min_epi32(a.v); }
 inline std::int32_t reduce_max(vint16 a) { return _mm512_reduce_max_epi32(a.v); }
 

@@ -47,6 +47,8 @@
 // ODR: everything here lives in lancer::LANCER_ISA, and the code calls no inline function
 // of namespace lancer or std (it decodes KdNode's two words itself, see kd_node.h), so no
 // copy compiled with one ISA's flags can stand in for another's.
+#pragma once
+
 #include "simd/isa_namespace.h"
 
 #include <cstddef>

@@ -1,4 +1,5 @@
-// Single-ray traversal of the kd-tree (closest hit and any hit) and its per-ISA dispatch.
+// Single-ray traversal of the kd-tree (closest hit and any hit), packet traversal of up to
+// 64 rays (kd_packet-inl.h), and their per-ISA dispatch.
 //
 // One kernel per instruction set (kd_traverse_<isa>.cpp instantiates kd_traverse-inl.h in
 // namespace lancer::<isa>); all give exactly the oracle's answers. The kernels are picked
@@ -42,6 +43,9 @@ using KdIntersectFn = Hit (*)(const KdTreeView& tree, const Ray& ray);
 using KdIntersectCountedFn = Hit (*)(const KdTreeView& tree, const Ray& ray, KdTraversalCounts& counts);
 // True when some triangle is hit with ray.tnear <= t < ray.tfar (BruteForce::occluded).
 using KdOccludedFn = bool (*)(const KdTreeView& tree, const Ray& ray);
+// intersect for rays[0..count), count <= 64, traversed together as one packet
+// (kd_packet-inl.h): hits[i] is exactly what intersect gives for rays[i].
+using KdIntersectPacketFn = void (*)(const KdTreeView& tree, const Ray* rays, Hit* hits, int count);
 
 struct KdKernels {
   Isa isa;
@@ -49,6 +53,7 @@ struct KdKernels {
   KdIntersectFn intersect;
   KdIntersectCountedFn intersect_counted;
   KdOccludedFn occluded;
+  KdIntersectPacketFn intersect_packet;
 };
 
 // The kernels of one ISA. Throws std::invalid_argument when this build has none for it

@@ -5,6 +5,7 @@
 #define LANCER_ISA avx2
 #include "simd/vfloat8_avx2.h"
 #include "accel/kd_traverse-inl.h"
+#include "accel/kd_packet-inl.h"
 
 namespace lancer::avx2 {
 
@@ -13,9 +14,11 @@ static_assert(vfloat<8>::size == 8);
 template Hit kd_intersect<8, 8>(const KdTreeView&, const Ray&);
 template Hit kd_intersect_counted<8, 8>(const KdTreeView&, const Ray&, KdTraversalCounts&);
 template bool kd_occluded<8, 8>(const KdTreeView&, const Ray&);
+template void kd_intersect_packet<8, 8>(const KdTreeView&, const Ray*, Hit*, int);
 
 KdKernels kd_kernels() {
-  return {Isa::Avx2, 8, &kd_intersect<8, 8>, &kd_intersect_counted<8, 8>, &kd_occluded<8, 8>};
+  return {Isa::Avx2, 8, &kd_intersect<8, 8>, &kd_intersect_counted<8, 8>, &kd_occluded<8, 8>,
+          &kd_intersect_packet<8, 8>};
 }
 
 }  // namespace lancer::avx2

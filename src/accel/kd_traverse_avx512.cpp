@@ -5,6 +5,7 @@
 #define LANCER_ISA avx512
 #include "simd/vfloat16_avx512.h"
 #include "accel/kd_traverse-inl.h"
+#include "accel/kd_packet-inl.h"
 
 namespace lancer::avx512 {
 
@@ -13,9 +14,11 @@ static_assert(vfloat<16>::size == 16);
 template Hit kd_intersect<16, 16>(const KdTreeView&, const Ray&);
 template Hit kd_intersect_counted<16, 16>(const KdTreeView&, const Ray&, KdTraversalCounts&);
 template bool kd_occluded<16, 16>(const KdTreeView&, const Ray&);
+template void kd_intersect_packet<16, 16>(const KdTreeView&, const Ray*, Hit*, int);
 
 KdKernels kd_kernels() {
-  return {Isa::Avx512, 16, &kd_intersect<16, 16>, &kd_intersect_counted<16, 16>, &kd_occluded<16, 16>};
+  return {Isa::Avx512, 16, &kd_intersect<16, 16>, &kd_intersect_counted<16, 16>, &kd_occluded<16, 16>,
+          &kd_intersect_packet<16, 16>};
 }
 
 }  // namespace lancer::avx512

@@ -3,15 +3,18 @@
 #define LANCER_ISA scalar
 #include "simd/vfloat1_scalar.h"
 #include "accel/kd_traverse-inl.h"
+#include "accel/kd_packet-inl.h"
 
 namespace lancer::scalar {
 
 template Hit kd_intersect<1, 4>(const KdTreeView&, const Ray&);
 template Hit kd_intersect_counted<1, 4>(const KdTreeView&, const Ray&, KdTraversalCounts&);
 template bool kd_occluded<1, 4>(const KdTreeView&, const Ray&);
+template void kd_intersect_packet<1, 4>(const KdTreeView&, const Ray*, Hit*, int);
 
 KdKernels kd_kernels() {
-  return {Isa::Scalar, 4, &kd_intersect<1, 4>, &kd_intersect_counted<1, 4>, &kd_occluded<1, 4>};
+  return {Isa::Scalar, 4, &kd_intersect<1, 4>, &kd_intersect_counted<1, 4>, &kd_occluded<1, 4>,
+          &kd_intersect_packet<1, 4>};
 }
 
 }  // namespace lancer::scalar

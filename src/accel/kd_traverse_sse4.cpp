@@ -5,6 +5,7 @@
 #define LANCER_ISA sse4
 #include "simd/vfloat4_sse4.h"
 #include "accel/kd_traverse-inl.h"
+#include "accel/kd_packet-inl.h"
 
 namespace lancer::sse4 {
 
@@ -13,9 +14,11 @@ static_assert(vfloat<4>::size == 4);
 template Hit kd_intersect<4, 4>(const KdTreeView&, const Ray&);
 template Hit kd_intersect_counted<4, 4>(const KdTreeView&, const Ray&, KdTraversalCounts&);
 template bool kd_occluded<4, 4>(const KdTreeView&, const Ray&);
+template void kd_intersect_packet<4, 4>(const KdTreeView&, const Ray*, Hit*, int);
 
 KdKernels kd_kernels() {
-  return {Isa::Sse4, 4, &kd_intersect<4, 4>, &kd_intersect_counted<4, 4>, &kd_occluded<4, 4>};
+  return {Isa::Sse4, 4, &kd_intersect<4, 4>, &kd_intersect_counted<4, 4>, &kd_occluded<4, 4>,
+          &kd_intersect_packet<4, 4>};
 }
 
 }  // namespace lancer::sse4

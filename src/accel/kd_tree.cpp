@@ -73,6 +73,14 @@ glm::vec3 KdTree::slot_vertex(std::uint32_t slot, int k) const {
   return {lane[std::size_t(k) * w], lane[(3 + std::size_t(k)) * w], lane[(6 + std::size_t(k)) * w]};
 }
 
+void KdTree::intersect_packet(const Ray* rays, Hit* hits, int count) const {
+  if (count < 0) throw std::invalid_argument("kd-tree: negative packet size " + std::to_string(count));
+  constexpr int kPacket = 64;  // the kernels' packet size
+  const KdTreeView v = view(*this);
+  for (int i = 0; i < count; i += kPacket)
+    kernels_.intersect_packet(v, rays + i, hits + i, count - i < kPacket ? count - i : kPacket);
+}
+
 std::size_t KdTree::memory_bytes() const {
   return nodes_.capacity() * sizeof(KdNode) + leaf_prims_.capacity() * sizeof(std::uint32_t) +
          blocks_.capacity() * sizeof(float);

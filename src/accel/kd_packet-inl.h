@@ -1,0 +1,350 @@
+// Packet kd-tree traversal: up to 64 rays descend the tree together (Wald, Slusallek,
+// Benthin & Wagner, "Interactive Rendering with Coherent Ray Tracing", EG 2001; Wald's
+// thesis, 2004, ch. 7), as templates over the vector width N and the leaf block width B,
+// compiled once per ISA inside namespace lancer::LANCER_ISA (kd_traverse_<isa>.cpp).
+// Written from scratch.
+//
+// Layout: the rays are converted to SoA on entry, 64 / N vectors of N lanes. One shared
+// stack; an entry holds a node, a 64-bit active mask and every ray's [tmin, tmax]. At an
+// inner node each active lane computes exactly what single-ray descend() computes (same
+// float operations, same slack), which gives the lanes that need the left and the right
+// child and their narrowed intervals; a child is skipped only when no active lane needs it.
+// Lanes whose direction sign on the split axis differs from the packet's majority are
+// handled in place: per lane, near/far map to left/right by its own sign (a select), and
+// the packet visits the children in the majority's order. Visiting a lane's far child
+// first costs work, never exactness: the closest hit is the minimum of (t, triangle index)
+// over every candidate found, whatever the order, and a lane drops an entry only when
+// best_t < entry tmin - slack(tmin) (the single-ray stopping rule).
+//
+// Leaves: each triangle is broadcast and tested against all active rays at once, with
+// kd_traverse-inl.h's test (watertight.h's operations in its order, no FMA: the build
+// passes -ffp-contract=off), zero edge functions redone by the scalar kernel. The shear
+// permutation (kx, ky, kz and the swap when dir[kz] < 0) differs per ray, so the rays are
+// split into up to six classes by permutation, each traversed as its own packet (camera
+// packets nearly always form one class). So every lane sees the very arithmetic of the
+// single-ray kernel on every leaf that the single-ray traversal visits (and possibly more),
+// and the answers equal the oracle's bit for bit.
+//
+// Rays the single-ray kernel does not traverse in float (miss, scan or double plans, see
+// kd_traverse-inl.h) are answered by it one by one.
+#pragma once
+
+#include "simd/isa_namespace.h"
+
+#include <cstdint>
+#include <cstring>
+
+#include "accel/kd_traverse-inl.h"
+
+namespace lancer::LANCER_ISA {
+namespace kdp {
+
+using kd::bits_to_float;
+using kd::next_up;
+using kd::NodeWords;
+using kd::read_node;
+
+inline constexpr int kMaxPacket = 64;
+
+// Per-ray data of one packet, SoA. Lanes of rays not in the packet are never read as
+// active (their values are zero).
+struct PacketRays {
+  alignas(64) float org[3][kMaxPacket];
+  alignas(64) float inv_dir[3][kMaxPacket];
+  alignas(64) float abs_slack[kMaxPacket];
+  alignas(64) float sorg[3][kMaxPacket];   // origin in sheared axis order (kx, ky, kz)
+  alignas(64) float shear[3][kMaxPacket];  // sx, sy, sz of WatertightRay
+  alignas(64) float tnear[kMaxPacket];
+  alignas(64) float limit[kMaxPacket];  // tfar, then next_up(best_t) once there is a hit
+  alignas(64) float best_t[kMaxPacket];
+  alignas(64) float best_u[kMaxPacket];
+  alignas(64) float best_v[kMaxPacket];
+  alignas(64) float t0[kMaxPacket];
+  alignas(64) float t1[kMaxPacket];
+  std::uint32_t best_prim[kMaxPacket];
+  std::uint64_t parallel[3];  // bit i: dir[axis] == 0 for ray i
+  std::uint64_t negative[3];  // bit i: dir[axis] < 0
+  std::uint64_t klass[6];     // rays by shear permutation: 2 * kz + (dir[kz] < 0)
+};
+
+struct alignas(64) PacketEntry {
+  float tmin[kMaxPacket];
+  float tmax[kMaxPacket];
+  std::uint32_t node;
+  std::uint64_t active;
+};
+
+template <int N>
+inline std::uint32_t lane_bits(std::uint64_t mask, int v) {
+  constexpr std::uint64_t kLaneMask = N == 64 ? ~0ull : (1ull << N) - 1;
+  return static_cast<std::uint32_t>((mask >> (v * N)) & kLaneMask);
+}
+
+inline int popcount64(std::uint64_t m) { return __builtin_popcountll(m); }
+
+// select for masks: m ? a : b, lane by lane.
+template <typename Mask>
+inline Mask select_bool(Mask m, Mask a, Mask b) {
+  return (m & a) | andnot(b, m);
+}
+
+// Splits the parent's lanes (entries[c]) at an inner node: the first child's intervals go
+// to entries[c + 1], the second's back to entries[c]. Returns the first child's node and
+// sets the two masks.
+template <int N>
+inline std::uint32_t split_lanes(NodeWords n, const PacketRays& p, const PacketEntry& parent, PacketEntry& second_out,
+                                 PacketEntry& first_out, int nvec, std::uint64_t& first_mask,
+                                 std::uint64_t& second_mask) {
+  const Lanes<N> w;
+  const std::uint32_t a = n.flags_offset & 3u;
+  const float split_f = bits_to_float(n.bits);
+  const std::uint32_t left = n.flags_offset >> 2;
+  const std::uint64_t active = parent.active;
+  // The packet's order: the majority of the active lanes' near child first.
+  const bool right_first = 2 * popcount64(p.negative[a] & active) > popcount64(active);
+  const vfloat<N> split(split_f), rel(static_cast<float>(kKdRelativeSlack));
+  std::uint64_t left_mask = 0, right_mask = 0;
+  PacketEntry& L = right_first ? second_out : first_out;
+  PacketEntry& R = right_first ? first_out : second_out;
+  for (int v = 0; v < nvec; ++v) {
+    const std::uint32_t m = lane_bits<N>(active, v);
+    if (m == 0) continue;
+    const int o = v * N;
+    const vfloat<N> tmin = load(w, parent.tmin + o), tmax = load(w, parent.tmax + o);
+    const vfloat<N> org = load(w, p.org[a] + o);
+    const vfloat<N> tp = (split - org) * load(w, p.inv_dir[a] + o);
+    const vfloat<N> s = abs(tp) * rel + load(w, p.abs_slack + o);
+    const vfloat<N> hi = tp + s, lo = tp - s;
+    const vbool<N> near_ok = hi >= tmin, far_ok = lo <= tmax;
+    const vfloat<N> near_tmax = select(hi < tmax, hi, tmax), far_tmin = select(lo > tmin, lo, tmin);
+    const vbool<N> par = mask_from_bits(w, static_cast<int>(lane_bits<N>(p.parallel[a], v)));
+    const vbool<N> neg = mask_from_bits(w, static_cast<int>(lane_bits<N>(p.negative[a], v)));
+    // A lane parallel to the plane keeps its interval: left when org <= split, right when
+    // org >= split (both when it lies in the plane).
+    const vbool<N> left_ok = select_bool(par, !(org > split), select_bool(neg, far_ok, near_ok));
+    const vbool<N> right_ok = select_bool(par, !(org < split), select_bool(neg, near_ok, far_ok));
+    const vbool<N> neg_moving = andnot(neg, par), pos_moving = andnot(!neg, par);
+    store(L.tmin + o, select(neg_moving, far_tmin, tmin));
+    store(L.tmax + o, select(pos_moving, near_tmax, tmax));
+    store(R.tmin + o, select(pos_moving, far_tmin, tmin));
+    store(R.tmax + o, select(neg_moving, near_tmax, tmax));
+    left_mask |= std::uint64_t(static_cast<std::uint32_t>(movemask(left_ok)) & m) << o;
+    right_mask |= std::uint64_t(static_cast<std::uint32_t>(movemask(right_ok)) & m) << o;
+  }
+  first_mask = right_first ? right_mask : left_mask;
+  second_mask = right_first ? left_mask : right_mask;
+  return right_first ? left + 1 : left;
+}
+
+// Tests the leaf's triangles (slots [begin, end)) against every active lane of the packet
+// (one permutation class: rows give the block offsets of the sheared axes), each triangle
+// broadcast to the lanes, and keeps each lane's closest hit by the oracle's rule (t, then
+// triangle index; the order of the tests does not matter). A vector of rays stays in
+// registers while the triangles stream past it.
+template <int N, int B>
+inline void leaf(const KdTreeView& tree, const Ray* rays, PacketRays& p, std::uint64_t active, int nvec,
+                 std::uint32_t begin, std::uint32_t end, const std::uint32_t rows[3]) {
+  const Lanes<N> w;
+  const vfloat<N> zero(0.0f);
+  for (int v = 0; v < nvec; ++v) {
+    const std::uint32_t m = lane_bits<N>(active, v);
+    if (m == 0) continue;
+    const int o = v * N;
+    const vfloat<N> ox = load(w, p.sorg[0] + o), oy = load(w, p.sorg[1] + o), oz = load(w, p.sorg[2] + o);
+    const vfloat<N> sx = load(w, p.shear[0] + o), sy = load(w, p.shear[1] + o), sz = load(w, p.shear[2] + o);
+    const vfloat<N> tnear = load(w, p.tnear + o);
+    for (std::uint32_t slot = begin; slot < end; ++slot) {
+      const float* base = tree.blocks + std::size_t(slot / B) * (9 * B) + slot % B;
+      // watertight.h, in its order of operations (as test_lanes in kd_traverse-inl.h).
+      const vfloat<N> Ax = vfloat<N>(base[rows[0]]) - ox, Ay = vfloat<N>(base[rows[1]]) - oy;
+      const vfloat<N> Az = vfloat<N>(base[rows[2]]) - oz;
+      const vfloat<N> Bx = vfloat<N>(base[rows[0] + B]) - ox, By = vfloat<N>(base[rows[1] + B]) - oy;
+      const vfloat<N> Bz = vfloat<N>(base[rows[2] + B]) - oz;
+      const vfloat<N> Cx = vfloat<N>(base[rows[0] + 2 * B]) - ox, Cy = vfloat<N>(base[rows[1] + 2 * B]) - oy;
+      const vfloat<N> Cz = vfloat<N>(base[rows[2] + 2 * B]) - oz;
+      const vfloat<N> ax = Ax - sx * Az, ay = Ay - sy * Az;
+      const vfloat<N> bx = Bx - sx * Bz, by = By - sy * Bz;
+      const vfloat<N> cx = Cx - sx * Cz, cy = Cy - sy * Cz;
+      const vfloat<N> U = cx * by - cy * bx;
+      const vfloat<N> V = ax * cy - ay * cx;
+      const vfloat<N> W = bx * ay - by * ax;
+      const vbool<N> is_zero = (U == zero) | (V == zero) | (W == zero);
+      const vbool<N> negative = (U < zero) | (V < zero) | (W < zero);
+      const vbool<N> positive = (U > zero) | (V > zero) | (W > zero);
+      const vbool<N> mixed_signs = negative & positive;
+      const std::uint32_t zero_bits = static_cast<std::uint32_t>(movemask(is_zero)) & m;
+      // Most rays miss most triangles: skip the (exact, slow) division when no lane can hit.
+      if (((~static_cast<std::uint32_t>(movemask(mixed_signs)) & m) | zero_bits) == 0) continue;
+      const vfloat<N> det = U + V + W;
+      const vfloat<N> az = sz * Az, bz = sz * Bz, cz = sz * Cz;
+      const vfloat<N> T = U * az + V * bz + W * cz;
+      const vfloat<N> t = T / det;
+      const vbool<N> in_range = (t >= tnear) & (t < load(w, p.limit + o)) & (det != zero);
+      const std::uint32_t hit_bits =
+          static_cast<std::uint32_t>(movemask(andnot(andnot(in_range, mixed_signs), is_zero))) & m;
+      std::uint32_t todo = hit_bits | zero_bits;
+      if (todo == 0) continue;
+      alignas(64) float ts[N], vs[N], ws[N], dets[N];
+      store(ts, t);
+      store(vs, V);
+      store(ws, W);
+      store(dets, det);
+      for (; todo != 0; todo &= todo - 1) {
+        const int l = __builtin_ctz(todo);
+        const int i = o + l;
+        float th, uh, vh;
+        if ((zero_bits >> l) & 1u) {
+          float tuv[3];
+          if (!kd_slot_hit(tree, rays[i], slot, p.limit[i], tuv)) continue;
+          th = tuv[0], uh = tuv[1], vh = tuv[2];
+        } else {
+          th = ts[l];
+          const float inv = 1.0f / dets[l];
+          uh = vs[l] * inv;
+          vh = ws[l] * inv;
+        }
+        const std::uint32_t prim = tree.prims[slot];  // [begin, end) holds no padding
+        if (th < p.best_t[i] || (th == p.best_t[i] && prim < p.best_prim[i])) {
+          p.best_t[i] = th, p.best_u[i] = uh, p.best_v[i] = vh, p.best_prim[i] = prim;
+          p.limit[i] = next_up(th);
+        }
+      }
+    }
+  }
+}
+
+// One packet of rays that share a shear permutation (kz, swapped), starting with `active`.
+template <int N, int B>
+void traverse_class(const KdTreeView& tree, const Ray* rays, PacketRays& p, std::uint64_t active, int nvec, int kz,
+                    bool swapped) {
+  const Lanes<N> w;
+  int kx = kz == 2 ? 0 : kz + 1;
+  int ky = kx == 2 ? 0 : kx + 1;
+  if (swapped) {
+    const int k = kx;
+    kx = ky;
+    ky = k;
+  }
+  const std::uint32_t rows[3] = {static_cast<std::uint32_t>(3 * B * kx), static_cast<std::uint32_t>(3 * B * ky),
+                                 static_cast<std::uint32_t>(3 * B * kz)};
+  // entries[c] is the current cell; entries below it are pending far cells (or dead ones
+  // with no active lane). Depth <= kKdMaxDepth, so c + 1 < kKdStackSize.
+  PacketEntry entries[kKdStackSize];
+  int c = 0;
+  entries[0].node = 0;
+  entries[0].active = active;
+  std::memcpy(entries[0].tmin, p.t0, sizeof p.t0);
+  std::memcpy(entries[0].tmax, p.t1, sizeof p.t1);
+  const vfloat<N> rel(static_cast<float>(kKdRelativeSlack));
+  for (;;) {
+    NodeWords n = read_node(tree.nodes, entries[c].node);
+    while ((n.flags_offset & 3u) != KdNode::kLeafFlag) {
+      std::uint64_t first_mask, second_mask;
+      const std::uint32_t first =
+          split_lanes<N>(n, p, entries[c], entries[c], entries[c + 1], nvec, first_mask, second_mask);
+      const std::uint32_t second = (n.flags_offset >> 2) + ((n.flags_offset >> 2) + 1) - first;
+      if (first_mask == 0) {  // the second child's intervals are already in entries[c]
+        entries[c].node = second;
+        entries[c].active = second_mask;
+      } else {
+        entries[c].node = second;
+        entries[c].active = second_mask;  // 0: a dead entry, skipped when popped
+        ++c;
+        entries[c].node = first;
+        entries[c].active = first_mask;
+      }
+      n = read_node(tree.nodes, entries[c].node);
+    }
+    const std::uint32_t begin = n.flags_offset >> 2, end = begin + n.bits;
+    leaf<N, B>(tree, rays, p, entries[c].active, nvec, begin, end, rows);
+    // Next cell that some lane still needs: a lane drops it when its hit lies before the
+    // cell's entry by more than the slack.
+    for (;;) {
+      if (c == 0) return;
+      PacketEntry& e = entries[--c];
+      std::uint64_t keep = e.active;
+      for (int v = 0; v < nvec && keep != 0; ++v) {
+        const std::uint32_t m = lane_bits<N>(e.active, v);
+        if (m == 0) continue;
+        const int o = v * N;
+        const vfloat<N> tmin = load(w, e.tmin + o);
+        const vfloat<N> entry = tmin - (abs(tmin) * rel + load(w, p.abs_slack + o));
+        const std::uint32_t done = static_cast<std::uint32_t>(movemask(load(w, p.best_t + o) < entry)) & m;
+        keep &= ~(std::uint64_t(done) << o);
+      }
+      if (keep == 0) continue;
+      e.active = keep;
+      break;
+    }
+  }
+}
+
+}  // namespace kdp
+
+// Closest hits of rays[0..count) (count <= 64), each exactly KdTree::intersect's (and the
+// oracle's). The tree's blocks must be B wide.
+template <int N, int B>
+void kd_intersect_packet(const KdTreeView& tree, const Ray* rays, Hit* hits, int count) {
+  static_assert(B % N == 0 && kdp::kMaxPacket % N == 0, "vectors cover whole lanes");
+  alignas(64) kdp::PacketRays p{};
+  std::uint64_t packet = 0;
+  for (int i = 0; i < count; ++i) {
+    const Ray& r = rays[i];
+    p.best_t[i] = r.tfar;
+    p.limit[i] = r.tfar;
+    p.best_prim[i] = kNoHit;
+    const KdRaySetup s = kd_setup_ray(tree, r);
+    if (s.plan == KdPlan::Miss) {
+      hits[i] = kd::miss();
+      continue;
+    }
+    if (s.plan == KdPlan::Scan) {
+      hits[i] = kd_scan_intersect(tree, r);
+      continue;
+    }
+    if (!s.float_ok) {
+      hits[i] = kd::closest<N, B, double>(tree, r, s, kd::NoCounts{});
+      continue;
+    }
+    const float d[3] = {r.dir.x, r.dir.y, r.dir.z}, o[3] = {r.org.x, r.org.y, r.org.z};
+    for (int a = 0; a < 3; ++a) {
+      p.org[a][i] = o[a];
+      p.inv_dir[a][i] = s.inv_dir_f[a];
+      if (s.parallel[a]) p.parallel[a] |= 1ull << i;
+      if (s.negative[a]) p.negative[a] |= 1ull << i;
+    }
+    p.abs_slack[i] = s.abs_slack_f;
+    p.t0[i] = s.t0_f;
+    p.t1[i] = s.t1_f;
+    p.tnear[i] = r.tnear;
+    // WatertightRay's permutation and shear.
+    float ad[3];
+    for (int a = 0; a < 3; ++a) ad[a] = d[a] < 0.0f ? -d[a] : d[a];
+    const int kz = (ad[0] > ad[1]) ? (ad[0] > ad[2] ? 0 : 2) : (ad[1] > ad[2] ? 1 : 2);
+    int kx = kz == 2 ? 0 : kz + 1;
+    int ky = kx == 2 ? 0 : kx + 1;
+    const bool swapped = d[kz] < 0.0f;
+    if (swapped) {
+      const int k = kx;
+      kx = ky;
+      ky = k;
+    }
+    p.sorg[0][i] = o[kx];
+    p.sorg[1][i] = o[ky];
+    p.sorg[2][i] = o[kz];
+    p.shear[0][i] = d[kx] / d[kz];
+    p.shear[1][i] = d[ky] / d[kz];
+    p.shear[2][i] = 1.0f / d[kz];
+    p.klass[2 * kz + (swapped ? 1 : 0)] |= 1ull << i;
+    packet |= 1ull << i;
+  }
+  const int nvec = (count + N - 1) / N;
+  for (int k = 0; k < 6; ++k)
+    if (p.klass[k] != 0) kdp::traverse_class<N, B>(tree, rays, p, p.klass[k], nvec, k / 2, (k & 1) != 0);
+  for (std::uint64_t todo = packet; todo != 0; todo &= todo - 1) {
+    const int i = __builtin_ctzll(todo);
+    hits[i] = p.best_prim[i] == kNoHit ? kd::miss() : Hit{p.best_t[i], p.best_prim[i], p.best_u[i], p.best_v[i]};
+  }
+}
+
+}  // namespace lancer::LANCER_ISA

@@ -24,6 +24,7 @@
 #include "accel/ray_offset.h"
 #include "scene/load_scene.h"
 #include "scene/procedural.h"
+#include "simd/splitmix64.h"
 
 namespace lancer::bench {
 
@@ -61,13 +62,8 @@ inline const TriangleSoA& scene(const std::string& name) {
   return slot->triangles;
 }
 
-// splitmix64 (a fixed recipe, the same stream everywhere) and a float in [0, 1).
-inline std::uint64_t mix(std::uint64_t z) {
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
-inline float unit(std::uint64_t& s) { return float(mix(s += 0x9E3779B97F4A7C15ull) >> 40) * 0x1.0p-24f; }
+// A float in [0, 1) from a splitmix64 stream whose state is `s`.
+inline float unit(std::uint64_t& s) { return float(splitmix64_mix(s += 0x9E3779B97F4A7C15ull) >> 40) * 0x1.0p-24f; }
 
 // A 256 x 256 pinhole camera looking at the scene's centre from 1.2 box diagonals away.
 inline std::vector<Ray> primary_rays(const TriangleSoA& t) {

@@ -7,25 +7,20 @@
 
 #include "accel/brute_force.h"
 #include "accel/watertight.h"
+#include "simd/splitmix64.h"
 
 namespace {
 
 using namespace lancer;
 
-// A small deterministic generator (splitmix64), so runs compare across machines.
-struct Rng {
-  std::uint64_t s;
-  float next() {
-    std::uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return static_cast<float>((z ^ (z >> 31)) >> 40) * 0x1.0p-24f;
-  }
-  glm::vec3 point() { return {next(), next(), next()}; }
+// A fixed generator (splitmix64), so runs compare across machines.
+struct Rng : SplitMix64 {
+  using SplitMix64::SplitMix64;
+  glm::vec3 point() { return {uniform(), uniform(), uniform()}; }
 };
 
 TriangleSoA soup(std::size_t n) {
-  Rng rng{1};
+  Rng rng(1);
   TriangleSoA t;
   for (std::size_t i = 0; i < n; ++i) {
     const glm::vec3 c = rng.point();
@@ -35,7 +30,7 @@ TriangleSoA soup(std::size_t n) {
 }
 
 std::vector<Ray> rays(std::size_t n) {
-  Rng rng{2};
+  Rng rng(2);
   std::vector<Ray> out(n);
   for (auto& r : out) {
     r.org = glm::vec3(0.5f, 0.5f, -1.0f);

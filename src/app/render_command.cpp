@@ -106,8 +106,9 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
       throw std::invalid_argument("image " + std::to_string(s.width) + "x" + std::to_string(s.height) +
                                   " is too large (at most 2^28 pixels)");
 
+    const Isa isa = isa_from(opt.isa);
     const auto t_build = std::chrono::steady_clock::now();
-    const std::unique_ptr<Accelerator> accel = make_accelerator(opt.accel, scene.triangles, kd_options_from(opt.kd_split), isa_from(opt.isa));
+    const std::unique_ptr<Accelerator> accel = make_accelerator(opt.accel, scene.triangles, kd_options_from(opt.kd_split), isa);
     const double build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_build).count();
     const double load_s = std::chrono::duration<double>(t_build - t_load).count();
 
@@ -132,7 +133,7 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
                   "lancer: %s %dx%d, %d spp, %s, accel %s, isa %s (%zu triangles): load %.2f s, build %.2f s, "
                   "render %.2f s, %.2f Mrays, %.2f Mrays/s",
                   scene.source.c_str(), s.width, s.height, s.spp, std::string(integrator_name(s.integrator)).c_str(),
-                  opt.accel.c_str(), std::string(isa_name(opt.accel == "brute" ? Isa::Scalar : isa_from(opt.isa))).c_str(),
+                  opt.accel.c_str(), std::string(isa_name(opt.accel == "brute" ? Isa::Scalar : isa)).c_str(),
                   scene.triangle_count(), load_s, build_s, stats.seconds,
                   static_cast<double>(stats.rays) * 1e-6, mrays);
     out << line << "\n";

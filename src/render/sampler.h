@@ -9,14 +9,12 @@
 
 #include <cstdint>
 
+#include "simd/splitmix64.h"
+
 namespace lancer {
 
-// splitmix64's output function: a bijection on 64-bit words with good avalanche.
-constexpr std::uint64_t mix64(std::uint64_t z) {
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  return z ^ (z >> 31);
-}
+// splitmix64's output function (simd/splitmix64.h).
+constexpr std::uint64_t mix64(std::uint64_t z) { return splitmix64_mix(z); }
 
 // The top 24 bits as a float in [0, 1): exactly representable, never 1.
 constexpr float to_unit_float(std::uint64_t bits) {

@@ -1,5 +1,6 @@
 #include "scene/procedural.h"
 
+#include "simd/splitmix64.h"
 #include <array>
 #include <cmath>
 #include <string>
@@ -89,23 +90,6 @@ std::uint32_t add_sphere_vertex(IndexedMesh& mesh, glm::vec3 center, float radiu
   return static_cast<std::uint32_t>(mesh.positions.size() - 1);
 }
 
-// splitmix64 (Steele, Lea, Flood, "Fast splittable pseudorandom number generators",
-// OOPSLA 2014): a fixed integer recipe, so the stream is the same everywhere.
-class SplitMix64 {
- public:
-  explicit SplitMix64(std::uint64_t seed) : state_(seed) {}
-  std::uint64_t next() {
-    std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  // Uniform in [0, 1): the top 24 bits, exactly representable as a float.
-  float uniform() { return static_cast<float>(next() >> 40) * 0x1p-24f; }
-
- private:
-  std::uint64_t state_;
-};
 
 }  // namespace
 

@@ -17,6 +17,7 @@
 #include "accel/kd_tree.h"
 #include "accel/ray_offset.h"
 #include "simd/isa.h"
+#include "simd/splitmix64.h"
 
 namespace lancer::test {
 
@@ -38,17 +39,11 @@ inline std::string kd_isa_param_name(const ::testing::TestParamInfo<Isa>& info) 
   return std::string(isa_name(info.param));
 }
 
-// splitmix64: a fixed recipe, the same stream on every platform.
-class TestRng {
+// Test rays and scenes from splitmix64: the same stream on every platform.
+class TestRng : public SplitMix64 {
  public:
-  explicit TestRng(std::uint64_t seed) : state_(seed) {}
-  std::uint64_t next() {
-    std::uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  float uniform() { return float(next() >> 40) * (1.0f / 16777216.0f); }  // [0, 1)
+  explicit TestRng(std::uint64_t seed) : SplitMix64(seed) {}
+  using SplitMix64::uniform;  // [0, 1)
   float uniform(float lo, float hi) { return lo + (hi - lo) * uniform(); }
   std::uint32_t below(std::uint32_t n) { return static_cast<std::uint32_t>(next() % n); }
   glm::vec3 in_box(const Bounds3& b) {
@@ -61,9 +56,6 @@ class TestRng {
       if (l2 > 1e-4f && l2 <= 1.0f) return d;
     }
   }
-
- private:
-  std::uint64_t state_;
 };
 
 // `count` triangles with corners in `box` (flat boxes give flat scenes), each corner within

@@ -7,19 +7,14 @@
 
 #include "accel/brute_force.h"
 #include "scene/procedural.h"
+#include "simd/splitmix64.h"
 
 namespace lancer {
 namespace {
 
-// splitmix64, so the rays are the same on every platform.
-struct Rng {
-  std::uint64_t s;
-  float uniform() {
-    std::uint64_t z = (s += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return static_cast<float>((z ^ (z >> 31)) >> 40) * 0x1.0p-24f;
-  }
+// Rays from splitmix64, the same on every platform.
+struct Rng : SplitMix64 {
+  using SplitMix64::SplitMix64;
   glm::vec3 in_ball(float r) {
     for (;;) {
       const glm::vec3 p(2 * uniform() - 1, 2 * uniform() - 1, 2 * uniform() - 1);
@@ -50,7 +45,7 @@ struct Escapes {
 
 Escapes shoot(const Scene& scene, glm::vec3 center, float radius, std::uint64_t seed) {
   const BruteForce oracle(scene.triangles);
-  Rng rng{seed};
+  Rng rng(seed);
   Escapes e;
   for (const glm::vec3& target : targets_on_vertices_and_edges(scene.triangles, rng)) {
     // From inside: any ray from inside a closed surface must hit it.

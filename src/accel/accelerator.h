@@ -19,6 +19,12 @@ class Accelerator {
   virtual Hit intersect(const Ray& ray) const = 0;
   // True when any triangle is hit with tnear <= t < tfar.
   virtual bool occluded(const Ray& ray) const = 0;
+  // Closest hits of rays[0..count), each exactly what intersect() gives. Accelerators with
+  // packet traversal override it (coherent rays, e.g. an 8x8 pixel block, share work);
+  // this default traces the rays one by one. count must be >= 0.
+  virtual void intersect_packet(const Ray* rays, Hit* hits, int count) const {
+    for (int i = 0; i < count; ++i) hits[i] = intersect(rays[i]);
+  }
 
   // Bytes the accelerator holds beyond the input triangles.
   virtual std::size_t memory_bytes() const = 0;

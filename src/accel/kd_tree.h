@@ -33,7 +33,7 @@ class KdTree final : public Accelerator {
   // Closest hits of rays[0..count), exactly intersect's, traversed in packets of up to 64
   // rays (coherent rays, e.g. an 8x8 pixel tile, share most of the work). Throws
   // std::invalid_argument for a negative count.
-  void intersect_packet(const Ray* rays, Hit* hits, int count) const;
+  void intersect_packet(const Ray* rays, Hit* hits, int count) const override;
   std::size_t memory_bytes() const override;
   std::string_view name() const override { return "kdtree"; }
 

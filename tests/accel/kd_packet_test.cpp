@@ -292,6 +292,42 @@ TEST_P(KdPacket, ScaledScenesAndBadLanes) {
   EXPECT_GT(plans[3], 0u) << "no lane took the packet (float) plan";
 }
 
+// Lanes on both sides of the vector setup's limits (kd_packet_setup-inl.h): a direction
+// component around 2^-60, whole directions scaled so E^2 max(E, D) / max|dir| crosses
+// 2^-50 and 2^90, and odd ray ranges (infinite or huge tnear, tfar below tnear, zero,
+// negative or inside the scene), mixed with ordinary camera lanes in each packet.
+TEST_P(KdPacket, LanesAcrossTheVectorSetupLimits) {
+  const TriangleSoA tris = spheres_and_boxes();
+  const KdTree kd(tris, {}, isa());
+  const BruteForce oracle(tris);
+  auto tiles = camera_tiles(Pinhole::looking_at({1.0f, 2.0f, 6.0f}, {0, 0.5f, 0}, {0, 1, 0}, 50.0f, 32), 32, 32);
+  Coverage cov;
+  int variant = 0;
+  for (std::vector<Ray>& rays : tiles) {
+    for (std::size_t i = 0; i < rays.size(); i += 3, ++variant) {
+      Ray& r = rays[i];
+      switch (variant % 12) {
+        case 0: r.dir.x = std::ldexp(1.0f, -58 - variant % 5); break;  // 2^-58 .. 2^-62
+        case 1: r.dir.y = -std::ldexp(1.0f, -61 + variant % 3); break;
+        case 2: r.dir *= std::ldexp(1.0f, 45 + variant % 20); break;    // magnitude around 2^-50
+        case 3: r.dir *= std::ldexp(1.0f, -95 + variant % 15); break;   // around 2^90
+        case 4: r.tnear = -kInfinity; break;
+        case 5: r.tnear = -1e30f; r.tfar = 1e30f; break;
+        case 6: r.tfar = -kInfinity; break;
+        case 7: r.tfar = 0.0f; break;
+        case 8: r.tnear = r.tfar = 5.0f; break;
+        case 9: r.tnear = 3e38f; break;
+        case 10: r.tfar = 5.5f + 0.01f * float(variant % 50); break;  // ends near the spheres
+        default: r.tnear = 5.0f + 0.02f * float(variant % 40); break;  // starts inside the scene
+      }
+    }
+    check_packet(kd, oracle, rays, cov);
+    if (HasFatalFailure()) return;
+  }
+  EXPECT_GT(cov.hits, cov.rays / 10);
+  EXPECT_GT(cov.partial_packets, 0u);
+}
+
 // More than 64 rays are split into packets; a count of 0 does nothing; negative throws.
 TEST_P(KdPacket, CountsBeyondOnePacket) {
   const TriangleSoA tris = spheres_and_boxes();

@@ -4,23 +4,35 @@
 //
 // Scenes: "spheres" (procedural, about 100k triangles of spheres of different sizes and
 // tessellations) and "bunny" (stanford-bunny.obj from LANCER_MODELS_DIR, only when present).
-// Rays: a 256 x 256 pinhole camera ("primary") and one diffuse bounce from every primary hit
-// ("diffuse"); both are deterministic.
+// Rays: a 256 x 256 pinhole camera ("primary"), the same rays regrouped into 8x8 pixel
+// tiles for packet traversal ("tiled"), and one diffuse bounce from every primary hit
+// ("diffuse"); all deterministic. Tiles are traced on one thread or on all of them
+// (for_each_tile), the same way by every program.
 #pragma once
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
 #include <memory>
 #include <mutex>
+#include <set>
 #include <string>
 #include <vector>
 
 #include <glm/geometric.hpp>
+#include <tbb/blocked_range.h>
+#include <tbb/global_control.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
 
 #include "accel/accelerator.h"
+#include "accel/kd_tree.h"
 #include "accel/ray_offset.h"
 #include "scene/load_scene.h"
 #include "scene/procedural.h"
@@ -65,7 +77,15 @@ inline const TriangleSoA& scene(const std::string& name) {
 // A float in [0, 1) from a splitmix64 stream whose state is `s`.
 inline float unit(std::uint64_t& s) { return float(splitmix64_mix(s += 0x9E3779B97F4A7C15ull) >> 40) * 0x1.0p-24f; }
 
-// A 256 x 256 pinhole camera looking at the scene's centre from 1.2 box diagonals away.
+// The primary camera's image is kImageSize x kImageSize pixels; a tile is kTileSize x
+// kTileSize pixels, kTileRays consecutive rays of tiled_primary_rays.
+inline constexpr int kImageSize = 256;
+inline constexpr int kTileSize = 8;
+inline constexpr int kTileRays = kTileSize * kTileSize;
+static_assert(kImageSize % kTileSize == 0);
+
+// A 256 x 256 pinhole camera looking at the scene's centre from 1.2 box diagonals away,
+// in row order.
 inline std::vector<Ray> primary_rays(const TriangleSoA& t) {
   const Bounds3 b = t.bounds();
   const glm::vec3 c = b.center(), e = b.extent();
@@ -75,7 +95,7 @@ inline std::vector<Ray> primary_rays(const TriangleSoA& t) {
   const glm::vec3 right = glm::normalize(glm::vec3(fwd.z, 0.0f, -fwd.x));
   const glm::vec3 up = glm::vec3(right.y * fwd.z - right.z * fwd.y, right.z * fwd.x - right.x * fwd.z,
                                  right.x * fwd.y - right.y * fwd.x);
-  const int n = 256;
+  const int n = kImageSize;
   std::vector<Ray> rays;
   rays.reserve(n * n);
   for (int y = 0; y < n; ++y)
@@ -87,6 +107,100 @@ inline std::vector<Ray> primary_rays(const TriangleSoA& t) {
       rays.push_back(r);
     }
   return rays;
+}
+
+// The rays of primary_rays regrouped tile by tile: 8x8 pixel tiles in row order of tiles,
+// each tile's 64 rays consecutive and in row order inside the tile (so rays [16k, 16k + 16)
+// of a tile are two of its rows and [8k, 8k + 8) one row).
+inline std::vector<Ray> tiled_primary_rays(const TriangleSoA& t) {
+  const std::vector<Ray> rows = primary_rays(t);
+  std::vector<Ray> tiled;
+  tiled.reserve(rows.size());
+  for (int ty = 0; ty < kImageSize; ty += kTileSize)
+    for (int tx = 0; tx < kImageSize; tx += kTileSize)
+      for (int y = ty; y < ty + kTileSize; ++y)
+        for (int x = tx; x < tx + kTileSize; ++x) tiled.push_back(rows[std::size_t(y) * kImageSize + std::size_t(x)]);
+  return tiled;
+}
+
+// How the benchmarks spread tiles over threads. One: a plain loop on the calling thread
+// (neither Lancer's nor Embree's traversal starts threads of its own). All: tbb::parallel_for
+// in the default task arena, every hardware thread.
+enum class Threads { One, All };
+
+inline const char* threads_name(Threads threads) { return threads == Threads::One ? "1thread" : "allthreads"; }
+
+// The number of threads a Threads mode traces with (the "threads" counter of the rows):
+// the default arena's size, unless a tbb::global_control limits it.
+inline int thread_count(Threads threads) {
+  if (threads == Threads::One) return 1;
+  const std::size_t allowed = tbb::global_control::active_value(tbb::global_control::max_allowed_parallelism);
+  return static_cast<int>(std::min<std::size_t>(std::size_t(tbb::this_task_arena::max_concurrency()), allowed));
+}
+
+// Tiles per parallel_for chunk, at least: a few, so that scheduling costs little next to
+// tracing while 1024 tiles still balance over the threads.
+inline constexpr std::size_t kTileGrain = 4;
+
+// Calls trace_tile(tile) for every tile in [0, tiles).
+template <class TraceTile>
+void for_each_tile(Threads threads, std::size_t tiles, const TraceTile& trace_tile) {
+  if (threads == Threads::One) {
+    for (std::size_t i = 0; i < tiles; ++i) trace_tile(i);
+    return;
+  }
+  using Range = tbb::blocked_range<std::size_t>;
+  tbb::parallel_for(Range(0, tiles, kTileGrain), [&](const Range& r) {
+    for (std::size_t i = r.begin(); i != r.end(); ++i) trace_tile(i);
+  });
+}
+
+// Same triangle and bit-identical t, u and v.
+inline bool same_hit(const Hit& a, const Hit& b) {
+  return a.prim == b.prim && std::bit_cast<std::uint32_t>(a.t) == std::bit_cast<std::uint32_t>(b.t) &&
+         std::bit_cast<std::uint32_t>(a.u) == std::bit_cast<std::uint32_t>(b.u) &&
+         std::bit_cast<std::uint32_t>(a.v) == std::bit_cast<std::uint32_t>(b.v);
+}
+
+// Aborts the program loudly, naming `what`, unless got[i] and expected[i] are the same hit
+// for every i: a benchmark whose hits are wrong measures the wrong work.
+inline void require_same_hits(const std::vector<Hit>& got, const std::vector<Hit>& expected, const std::string& what) {
+  if (got.size() != expected.size()) {
+    std::fprintf(stderr, "%s: %zu hits, expected %zu\n", what.c_str(), got.size(), expected.size());
+    std::abort();
+  }
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    const Hit &g = got[i], &e = expected[i];
+    if (same_hit(g, e)) continue;
+    std::fprintf(stderr, "%s: ray %zu (tile %zu): prim %u t %a u %a v %a, expected prim %u t %a u %a v %a\n",
+                 what.c_str(), i, i / kTileRays, g.prim, double(g.t), double(g.u), double(g.v), e.prim, double(e.t),
+                 double(e.u), double(e.v));
+    std::abort();
+  }
+}
+
+// The packet benchmarks promise the single-ray hits: intersect_packet over 64-ray tiles must
+// give exactly what intersect gives ray by ray. Checked on every ray once per label (Google
+// Benchmark runs a benchmark's setup again for every trial).
+inline void check_packets_match_single(const KdTree& kd, const std::vector<Ray>& tiled, const std::string& label) {
+  static std::mutex mutex;
+  static std::set<std::string> checked;
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (!checked.insert(label).second) return;
+  }
+  std::vector<Hit> packet(tiled.size()), single(tiled.size());
+  for (std::size_t i = 0; i < tiled.size(); i += kTileRays)
+    kd.intersect_packet(tiled.data() + i, packet.data() + i,
+                        static_cast<int>(std::min<std::size_t>(kTileRays, tiled.size() - i)));
+  std::size_t hits = 0;
+  for (std::size_t i = 0; i < tiled.size(); ++i) {
+    single[i] = kd.intersect(tiled[i]);
+    hits += single[i].valid() ? 1 : 0;
+  }
+  require_same_hits(packet, single, label + ": packet against single-ray hits");
+  std::fprintf(stderr, "[sanity] %s: packet == single-ray on all %zu rays (%zu hits)\n", label.c_str(), tiled.size(),
+               hits);
 }
 
 // One diffuse bounce from every primary hit found by `accel` (pass Lancer's kd-tree, which

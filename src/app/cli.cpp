@@ -55,6 +55,12 @@ void add_render_command(CLI::App& app, RenderOptions& opt) {
             "whitted, normals, depth or primid")
       ->check(CLI::IsMember({"whitted", "normals", "depth", "primid"}))
       ->default_str("whitted");
+  render->add_option_function<std::string>(
+            "--mode", [&s](const std::string& name) { s.mode = *parse_trace_mode(name); },
+            "Primary rays: packet (8x8 pixel blocks traced together) or single (one ray at a time); "
+            "the image is the same")
+      ->check(CLI::IsMember({"packet", "single"}))
+      ->default_str("packet");
   render->add_option("--max-depth", s.max_depth, "Reflection and refraction depth limit")
       ->check(CLI::Range(0, 64))->capture_default_str();
   render->add_option("--light-samples", s.light_samples, "Shadow rays toward area lights per shading point")

@@ -127,15 +127,19 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
       write_image(image, o);
     }
 
-    char line[512];
+    char line[1024];
     const double mrays = stats.seconds > 0.0 ? static_cast<double>(stats.rays) / stats.seconds * 1e-6 : 0.0;
+    // Primary rays per second of one thread's time inside the camera-ray tracing calls: the
+    // number that compares packet and single mode, free of shading and thread count.
+    const double primary_mrays =
+        stats.primary_seconds > 0.0 ? static_cast<double>(stats.primary_rays) / stats.primary_seconds * 1e-6 : 0.0;
     std::snprintf(line, sizeof line,
-                  "lancer: %s %dx%d, %d spp, %s, accel %s, isa %s (%zu triangles): load %.2f s, build %.2f s, "
-                  "render %.2f s, %.2f Mrays, %.2f Mrays/s",
+                  "lancer: %s %dx%d, %d spp, %s, accel %s, isa %s, mode %s (%zu triangles): load %.2f s, "
+                  "build %.2f s, render %.2f s, %.2f Mrays, %.2f Mrays/s, primary %.2f Mrays/s/thread",
                   scene.source.c_str(), s.width, s.height, s.spp, std::string(integrator_name(s.integrator)).c_str(),
                   opt.accel.c_str(), std::string(isa_name(opt.accel == "brute" ? Isa::Scalar : isa)).c_str(),
-                  scene.triangle_count(), load_s, build_s, stats.seconds,
-                  static_cast<double>(stats.rays) * 1e-6, mrays);
+                  std::string(trace_mode_name(s.mode)).c_str(), scene.triangle_count(), load_s, build_s,
+                  stats.seconds, static_cast<double>(stats.rays) * 1e-6, mrays, primary_mrays);
     out << line << "\n";
     for (const auto& o : opt.outputs) out << "wrote " << o << "\n";
     return 0;

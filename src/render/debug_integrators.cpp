@@ -14,7 +14,10 @@ glm::vec3 primid_color(std::uint32_t id) {
 glm::vec3 debug_radiance(IntegratorKind kind, const Scene& scene, const Accelerator& accel, const Ray& ray,
                          std::uint64_t& rays) {
   ++rays;
-  const Hit hit = accel.intersect(ray);
+  return debug_radiance_from_hit(kind, scene, ray, accel.intersect(ray));
+}
+
+glm::vec3 debug_radiance_from_hit(IntegratorKind kind, const Scene& scene, const Ray& ray, const Hit& hit) {
   if (!hit.valid()) return glm::vec3(0.0f);
   switch (kind) {
     case IntegratorKind::Normals:

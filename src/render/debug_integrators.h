@@ -24,5 +24,8 @@ glm::vec3 primid_color(std::uint32_t id);
 // `kind` must be Normals, Depth or PrimId. `ray.dir` must be unit length. Counts one ray.
 glm::vec3 debug_radiance(IntegratorKind kind, const Scene& scene, const Accelerator& accel, const Ray& ray,
                          std::uint64_t& rays);
+// debug_radiance() for a ray the caller has already traced: `hit` must be
+// accel.intersect(ray). Traces nothing, so there is no ray count to add to.
+glm::vec3 debug_radiance_from_hit(IntegratorKind kind, const Scene& scene, const Ray& ray, const Hit& hit);
 
 }  // namespace lancer

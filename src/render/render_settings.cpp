@@ -19,4 +19,18 @@ std::optional<IntegratorKind> parse_integrator(std::string_view name) {
   return std::nullopt;
 }
 
+std::string_view trace_mode_name(TraceMode mode) {
+  switch (mode) {
+    case TraceMode::Packet: return "packet";
+    case TraceMode::Single: return "single";
+  }
+  return "unknown";
+}
+
+std::optional<TraceMode> parse_trace_mode(std::string_view name) {
+  for (TraceMode m : {TraceMode::Packet, TraceMode::Single})
+    if (trace_mode_name(m) == name) return m;
+  return std::nullopt;
+}
+
 }  // namespace lancer

@@ -12,6 +12,14 @@ enum class IntegratorKind { Whitted, Normals, Depth, PrimId };
 std::string_view integrator_name(IntegratorKind kind);
 std::optional<IntegratorKind> parse_integrator(std::string_view name);
 
+// How primary (camera) rays are traced: Packet hands each 8x8 pixel block to
+// Accelerator::intersect_packet at once, Single calls Accelerator::intersect per ray.
+// Both give the same hits, so the image never depends on the mode.
+enum class TraceMode { Packet, Single };
+
+std::string_view trace_mode_name(TraceMode mode);
+std::optional<TraceMode> parse_trace_mode(std::string_view name);
+
 struct RenderSettings {
   int width = 512;
   int height = 512;
@@ -22,12 +30,16 @@ struct RenderSettings {
   int threads = 0;         // 0: all hardware threads
   std::uint64_t seed = 0;
   int tile_size = 16;
+  TraceMode mode = TraceMode::Packet;  // primary rays only; secondary rays are always single
 };
 
 // What a finished render reports in the summary line.
 struct RenderStats {
   double seconds = 0.0;
   std::uint64_t rays = 0;  // every ray traced: camera, shadow and secondary
+  std::uint64_t primary_rays = 0;  // camera rays: width * height * spp
+  // Thread-seconds spent inside the primary-ray tracing calls only, summed over threads.
+  double primary_seconds = 0.0;
 };
 
 }  // namespace lancer

@@ -19,7 +19,9 @@ using ProgressCallback = std::function<void(std::size_t tiles_done, std::size_t 
 // with settings.spp jittered samples per pixel, box-filtered. The image depends only on
 // the inputs and settings.seed, never on settings.threads or settings.tile_size.
 // `accel` must have been built over scene.triangles. Throws std::invalid_argument on
-// invalid settings. Fills stats.seconds and stats.rays (every ray traced).
+// invalid settings. Fills stats: seconds, rays (every ray traced), primary_rays and
+// primary_seconds. Camera rays are traced in blocks of at most 8x8 pixels inside each tile,
+// as packets or one by one as settings.mode says; the image is the same either way.
 ImageRGB render_image(const Scene& scene, const Accelerator& accel, const PinholeCamera& camera,
                       const RenderSettings& settings, RenderStats& stats, const ProgressCallback& progress = {});
 

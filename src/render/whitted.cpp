@@ -61,7 +61,11 @@ WhittedIntegrator::WhittedIntegrator(const Scene& scene, const Accelerator& acce
 
 glm::vec3 WhittedIntegrator::trace(const Ray& ray, int depth, PixelSampler& sampler, std::uint64_t& rays) const {
   ++rays;
-  const Hit hit = accel_.intersect(ray);
+  return shade(ray, accel_.intersect(ray), depth, sampler, rays);
+}
+
+glm::vec3 WhittedIntegrator::shade(const Ray& ray, const Hit& hit, int depth, PixelSampler& sampler,
+                                   std::uint64_t& rays) const {
   if (!hit.valid()) return glm::vec3(0.0f);  // no environment yet
   const SurfacePoint sp = make_surface_point(scene_, ray, hit);
   const Material& m = *sp.material;

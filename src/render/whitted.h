@@ -43,12 +43,21 @@ class WhittedIntegrator {
   glm::vec3 radiance(const Ray& ray, PixelSampler& sampler, std::uint64_t& rays) const {
     return trace(ray, 0, sampler, rays);
   }
+  // radiance() for a ray the caller has already traced: `hit` must be accel.intersect(ray)
+  // (e.g. from a packet of camera rays). Gives exactly radiance()'s value; `rays` is
+  // increased by the shadow and secondary rays only, not by `ray` itself.
+  glm::vec3 radiance_from_hit(const Ray& ray, const Hit& hit, PixelSampler& sampler, std::uint64_t& rays) const {
+    return shade(ray, hit, 0, sampler, rays);
+  }
 
   // Reflected radiance at a Lambertian point from all lights (no emission of its own).
   glm::vec3 direct_lighting(const SurfacePoint& sp, PixelSampler& sampler, std::uint64_t& rays) const;
 
  private:
+  // Counts and intersects `ray`, then shades its hit.
   glm::vec3 trace(const Ray& ray, int depth, PixelSampler& sampler, std::uint64_t& rays) const;
+  // Radiance along `ray` given its closest hit, `depth` specular bounces from the camera.
+  glm::vec3 shade(const Ray& ray, const Hit& hit, int depth, PixelSampler& sampler, std::uint64_t& rays) const;
   glm::vec3 mirror(const SurfacePoint& sp, const Ray& ray, int depth, PixelSampler& sampler,
                    std::uint64_t& rays) const;
   glm::vec3 dielectric(const SurfacePoint& sp, const Ray& ray, int depth, PixelSampler& sampler,

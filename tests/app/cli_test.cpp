@@ -5,6 +5,7 @@
 
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -50,7 +51,8 @@ TEST(Cli, HelpListsEveryRenderOption) {
   const CliResult r = run({"render", "--help"});
   EXPECT_EQ(r.code, 0);
   for (const char* opt : {"--output", "--width", "--height", "--spp", "--integrator", "--threads", "--seed", "--accel",
-                          "--camera", "--eye", "--look-at", "--up", "--fov", "--max-depth", "--kd-split", "--isa"})
+                          "--camera", "--eye", "--look-at", "--up", "--fov", "--max-depth", "--kd-split", "--isa",
+                          "--mode"})
     EXPECT_NE(r.out.find(opt), std::string::npos) << opt;
 }
 
@@ -66,6 +68,7 @@ TEST(Cli, AbsurdOptionsAreRefused) {
         {"render", cornell(), "--accel", "octree"},
         {"render", cornell(), "--kd-split", "sweep"},
         {"render", cornell(), "--isa", "avx3"},
+        {"render", cornell(), "--mode", "foo"},
         {"render", cornell(), "--eye", "1,2"}}) {
     const CliResult r = run(args);
     EXPECT_EQ(r.code, 2) << args[2] << " " << args[3];
@@ -116,6 +119,38 @@ TEST(Cli, SummaryNamesTheIsaAndEveryIsaRenders) {
     ASSERT_EQ(r.code, 0) << r.err;
     EXPECT_NE(r.out.find("isa " + name), std::string::npos) << r.out;
   }
+}
+
+TEST(Cli, UnknownModeNamesTheOption) {
+  const CliResult r = run({"render", cornell(), "--mode", "foo", "-o", (temp_dir() / "m.png").string()});
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--mode"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("foo"), std::string::npos) << r.err;
+}
+
+// Both modes render, the summary names the mode and the primary-ray rate, and the images
+// are the same bit for bit (the EXR holds the linear floats).
+TEST(Cli, PacketAndSingleModesRenderTheSameImage) {
+  std::vector<ImageRGB> images;
+  for (const std::string mode : {"packet", "single"}) {
+    const fs::path exr = temp_dir() / ("mode_" + mode + ".exr");
+    const CliResult r = run({"render", cornell(), "--width", "21", "--height", "13", "--spp", "2", "--no-progress",
+                             "--mode", mode, "-o", exr.string()});
+    ASSERT_EQ(r.code, 0) << r.err;
+    EXPECT_NE(r.out.find("mode " + mode), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("primary "), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find(" Mrays/s/thread"), std::string::npos) << r.out;
+    images.push_back(read_image(exr));
+  }
+  ASSERT_EQ(images[0].rgb.size(), images[1].rgb.size());
+  EXPECT_EQ(std::memcmp(images[0].rgb.data(), images[1].rgb.data(), images[0].rgb.size() * sizeof(float)), 0);
+}
+
+TEST(Cli, SummaryNamesTheDefaultModePacket) {
+  const CliResult r = run({"render", cornell(), "--width", "8", "--height", "8", "--spp", "1", "--no-progress", "-o",
+                           (temp_dir() / "default_mode.png").string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("mode packet"), std::string::npos) << r.out;
 }
 
 // Without --height the image is square, unless a glTF camera gives its aspect ratio.

@@ -1,0 +1,47 @@
+#include "render/primary_block.h"
+
+#include <algorithm>
+#include <stdexcept>
+#include <string>
+
+namespace lancer {
+
+std::vector<PixelBlock> make_blocks(const Tile& tile) {
+  std::vector<PixelBlock> blocks;
+  for (int y = tile.y0; y < tile.y1; y += kBlockSide)
+    for (int x = tile.x0; x < tile.x1; x += kBlockSide)
+      blocks.push_back({x, y, std::min(x + kBlockSide, tile.x1), std::min(y + kBlockSide, tile.y1)});
+  return blocks;
+}
+
+void PrimaryBlock::generate(const PinholeCamera& camera, const PixelBlock& block, int sample, std::uint64_t seed) {
+  if (block.width() <= 0 || block.height() <= 0 || block.width() > kBlockSide || block.height() > kBlockSide)
+    throw std::invalid_argument("primary block: " + std::to_string(block.width()) + "x" +
+                                std::to_string(block.height()) + " pixels (expected 1 to " +
+                                std::to_string(kBlockSide) + " on a side)");
+  samplers_.clear();
+  count_ = 0;
+  for (int y = block.y0; y < block.y1; ++y) {
+    for (int x = block.x0; x < block.x1; ++x) {
+      PixelSampler& sampler = samplers_.emplace_back(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y),
+                                                     static_cast<std::uint32_t>(sample), seed);
+      // Jitter over the pixel's area; the renderer's box filter averages the samples.
+      const float u = sampler.next();
+      const float v = sampler.next();
+      const Ray ray = camera.generate(static_cast<float>(x) + u, static_cast<float>(y) + v);
+      rays_[static_cast<std::size_t>(count_++)] = ray;
+    }
+  }
+}
+
+std::chrono::steady_clock::duration PrimaryBlock::trace(const Accelerator& accel, TraceMode mode) {
+  const auto start = std::chrono::steady_clock::now();
+  if (mode == TraceMode::Packet) {
+    accel.intersect_packet(rays_.data(), hits_.data(), count_);
+  } else {
+    for (std::size_t i = 0; i < static_cast<std::size_t>(count_); ++i) hits_[i] = accel.intersect(rays_[i]);
+  }
+  return std::chrono::steady_clock::now() - start;
+}
+
+}  // namespace lancer

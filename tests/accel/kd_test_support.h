@@ -12,6 +12,7 @@
 
 #include <gtest/gtest.h>
 #include <tbb/parallel_for.h>
+#include <glm/geometric.hpp>
 
 #include "accel/brute_force.h"
 #include "accel/kd_tree.h"
@@ -190,6 +191,38 @@ inline Ray make_ray(RayKind kind, const TriangleSoA& tris, const Bounds3& box, c
       break;
     }
   return r;
+}
+
+// A pinhole camera; rays are not normalised (t in units of the pixel direction).
+struct Pinhole {
+  glm::vec3 eye, forward, right, up;  // right and up span one pixel
+
+  static Pinhole looking_at(glm::vec3 eye, glm::vec3 target, glm::vec3 up_hint, float fov_deg, int width) {
+    const glm::vec3 f = glm::normalize(target - eye);
+    const glm::vec3 r = glm::normalize(glm::cross(f, up_hint));
+    const glm::vec3 u = glm::cross(r, f);
+    const float pixel = 2.0f * std::tan(fov_deg * 0.5f * 3.14159265f / 180.0f) / float(width);
+    return {eye, f, r * pixel, u * pixel};
+  }
+  Ray ray(int px, int py, int width, int height) const {
+    Ray r;
+    r.org = eye;
+    r.dir = forward + right * (float(px) + 0.5f - 0.5f * float(width)) + up * (0.5f * float(height) - float(py) - 0.5f);
+    return r;
+  }
+};
+
+// The 8x8 pixel tiles of a width x height image, each tile's rays in row order.
+inline std::vector<std::vector<Ray>> camera_tiles(const Pinhole& cam, int width, int height) {
+  std::vector<std::vector<Ray>> tiles;
+  for (int ty = 0; ty < height; ty += 8)
+    for (int tx = 0; tx < width; tx += 8) {
+      std::vector<Ray> t;
+      for (int y = ty; y < ty + 8; ++y)
+        for (int x = tx; x < tx + 8; ++x) t.push_back(cam.ray(x, y, width, height));
+      tiles.push_back(std::move(t));
+    }
+  return tiles;
 }
 
 inline std::string describe(const Ray& r) {

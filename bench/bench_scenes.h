@@ -84,9 +84,9 @@ inline constexpr int kTileSize = 8;
 inline constexpr int kTileRays = kTileSize * kTileSize;
 static_assert(kImageSize % kTileSize == 0);
 
-// A 256 x 256 pinhole camera looking at the scene's centre from 1.2 box diagonals away,
-// in row order.
-inline std::vector<Ray> primary_rays(const TriangleSoA& t) {
+// An n x n (256 x 256 by default) pinhole camera looking at the scene's centre from 1.2 box
+// diagonals away, in row order.
+inline std::vector<Ray> primary_rays(const TriangleSoA& t, int n = kImageSize) {
   const Bounds3 b = t.bounds();
   const glm::vec3 c = b.center(), e = b.extent();
   const float diag = std::sqrt(e.x * e.x + e.y * e.y + e.z * e.z);
@@ -95,7 +95,6 @@ inline std::vector<Ray> primary_rays(const TriangleSoA& t) {
   const glm::vec3 right = glm::normalize(glm::vec3(fwd.z, 0.0f, -fwd.x));
   const glm::vec3 up = glm::vec3(right.y * fwd.z - right.z * fwd.y, right.z * fwd.x - right.x * fwd.z,
                                  right.x * fwd.y - right.y * fwd.x);
-  const int n = kImageSize;
   std::vector<Ray> rays;
   rays.reserve(n * n);
   for (int y = 0; y < n; ++y)
@@ -112,14 +111,15 @@ inline std::vector<Ray> primary_rays(const TriangleSoA& t) {
 // The rays of primary_rays regrouped tile by tile: 8x8 pixel tiles in row order of tiles,
 // each tile's 64 rays consecutive and in row order inside the tile (so rays [16k, 16k + 16)
 // of a tile are two of its rows and [8k, 8k + 8) one row).
-inline std::vector<Ray> tiled_primary_rays(const TriangleSoA& t) {
-  const std::vector<Ray> rows = primary_rays(t);
+// n must be a multiple of kTileSize.
+inline std::vector<Ray> tiled_primary_rays(const TriangleSoA& t, int n = kImageSize) {
+  const std::vector<Ray> rows = primary_rays(t, n);
   std::vector<Ray> tiled;
   tiled.reserve(rows.size());
-  for (int ty = 0; ty < kImageSize; ty += kTileSize)
-    for (int tx = 0; tx < kImageSize; tx += kTileSize)
+  for (int ty = 0; ty < n; ty += kTileSize)
+    for (int tx = 0; tx < n; tx += kTileSize)
       for (int y = ty; y < ty + kTileSize; ++y)
-        for (int x = tx; x < tx + kTileSize; ++x) tiled.push_back(rows[std::size_t(y) * kImageSize + std::size_t(x)]);
+        for (int x = tx; x < tx + kTileSize; ++x) tiled.push_back(rows[std::size_t(y) * std::size_t(n) + std::size_t(x)]);
   return tiled;
 }
 
@@ -127,6 +127,11 @@ inline std::vector<Ray> tiled_primary_rays(const TriangleSoA& t) {
 // (neither Lancer's nor Embree's traversal starts threads of its own). All: tbb::parallel_for
 // in the default task arena, every hardware thread.
 enum class Threads { One, All };
+
+// The ray set's name in benchmark rows: "primary" for the default image size, else
+// "primary<n>" (e.g. primary1024: 16 times the rays, so each 8x8 tile is 4x4 times more
+// coherent).
+inline std::string primary_set_name(int n) { return n == kImageSize ? "primary" : "primary" + std::to_string(n); }
 
 inline const char* threads_name(Threads threads) { return threads == Threads::One ? "1thread" : "allthreads"; }
 

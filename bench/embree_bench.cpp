@@ -192,6 +192,7 @@ void embree_intersect_packet(RTCScene scene, const Ray* rays, Hit* hits) {
   static_assert(alignof(RayHit) >= 4 * K, "Embree wants a K-ray packet aligned to 4K bytes");
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
+  context.flags = RTC_INTERSECT_CONTEXT_FLAG_COHERENT;
   RayHit rh;
   for (int i = 0; i < K; ++i) {
     const Ray& r = rays[i];
@@ -363,15 +364,16 @@ void time_tiles(benchmark::State& state, Threads threads, std::size_t tiles, con
   state.counters["threads"] = double(bench::thread_count(threads));
 }
 
-std::string embree_tiled_name(EmbreeCall call, Threads threads, const std::string& name) {
-  return std::string("BM_EmbreeTrace/") + call_name(call) + "/primary/" + bench::threads_name(threads) + "/" + name;
+std::string embree_tiled_name(EmbreeCall call, Threads threads, const std::string& name, int image) {
+  return std::string("BM_EmbreeTrace/") + call_name(call) + "/" + bench::primary_set_name(image) + "/" +
+         bench::threads_name(threads) + "/" + name;
 }
 
-void bm_embree_tiled(benchmark::State& state, EmbreeCall call, Threads threads, std::string name) {
+void bm_embree_tiled(benchmark::State& state, EmbreeCall call, Threads threads, std::string name, int image) {
   const DevicePtr device = make_device(0);
   print_embree_info(device.get());
   const ScenePtr scene = build_scene(device.get(), bench::scene(name), RTC_BUILD_QUALITY_HIGH);
-  const std::vector<Ray> rays = bench::tiled_primary_rays(bench::scene(name));
+  const std::vector<Ray> rays = bench::tiled_primary_rays(bench::scene(name), image);
   const std::size_t tiles = rays.size() / bench::kTileRays;
   std::vector<Hit> hits(rays.size());
   const auto trace_tile = [&](std::size_t tile) {
@@ -380,22 +382,22 @@ void bm_embree_tiled(benchmark::State& state, EmbreeCall call, Threads threads, 
   };
   bench::for_each_tile(Threads::One, tiles, trace_tile);
   const std::vector<Hit> expected = hits;
-  check_against_lancer(std::string("high/") + call_name(call) + "/primary-tiled/" + name, rays, expected,
-                       lancer_tree(name));
-  time_tiles(state, threads, tiles, trace_tile, hits, expected, embree_tiled_name(call, threads, name));
+  check_against_lancer(std::string("high/") + call_name(call) + "/" + bench::primary_set_name(image) + "-tiled/" + name,
+                       rays, expected, lancer_tree(name));
+  time_tiles(state, threads, tiles, trace_tile, hits, expected, embree_tiled_name(call, threads, name, image));
 }
 
-std::string lancer_tiled_name(bool packet, Threads threads, const std::string& name) {
+std::string lancer_tiled_name(bool packet, Threads threads, const std::string& name, int image) {
   const std::string isa(isa_name(best_supported_isa()));
-  return std::string("BM_LancerTrace/") + (packet ? "packet/" : "single/") + isa +
-         (packet ? "/primary/" : "/primary-tiled/") + bench::threads_name(threads) + "/" + name;
+  return std::string("BM_LancerTrace/") + (packet ? "packet/" : "single/") + isa + "/" +
+         bench::primary_set_name(image) + (packet ? "/" : "-tiled/") + bench::threads_name(threads) + "/" + name;
 }
 
-void bm_lancer_tiled(benchmark::State& state, bool packet, Threads threads, std::string name) {
+void bm_lancer_tiled(benchmark::State& state, bool packet, Threads threads, std::string name, int image) {
   const KdTree& kd = lancer_tree(name);
-  const std::vector<Ray> rays = bench::tiled_primary_rays(bench::scene(name));
+  const std::vector<Ray> rays = bench::tiled_primary_rays(bench::scene(name), image);
   const std::size_t tiles = rays.size() / bench::kTileRays;
-  const std::string label = lancer_tiled_name(packet, threads, name);
+  const std::string label = lancer_tiled_name(packet, threads, name, image);
   if (packet) bench::check_packets_match_single(kd, rays, label);
   std::vector<Hit> hits(rays.size());
   const auto trace_tile = [&](std::size_t tile) {
@@ -442,19 +444,20 @@ struct Registration {
         RegisterBenchmark(("BM_LancerTrace/single/" + kind + "/" + name).c_str(), bm_lancer_trace, kind, name)
             ->Unit(benchmark::kMillisecond);
       }
-      for (const Threads threads : {Threads::One, Threads::All}) {
-        std::vector<benchmark::internal::Benchmark*> rows;
-        for (const EmbreeCall call : {EmbreeCall::Intersect16, EmbreeCall::Intersect8, EmbreeCall::Intersect1})
-          rows.push_back(RegisterBenchmark(embree_tiled_name(call, threads, name).c_str(), bm_embree_tiled, call,
-                                           threads, name));
-        for (const bool packet : {true, false})
-          rows.push_back(RegisterBenchmark(lancer_tiled_name(packet, threads, name).c_str(), bm_lancer_tiled, packet,
-                                           threads, name));
-        for (auto* row : rows) {
-          row->Unit(benchmark::kMillisecond);
-          if (threads == Threads::All) row->UseRealTime();
+      for (const int image : {bench::kImageSize, 1024})
+        for (const Threads threads : {Threads::One, Threads::All}) {
+          std::vector<benchmark::internal::Benchmark*> rows;
+          for (const EmbreeCall call : {EmbreeCall::Intersect16, EmbreeCall::Intersect8, EmbreeCall::Intersect1})
+            rows.push_back(RegisterBenchmark(embree_tiled_name(call, threads, name, image).c_str(), bm_embree_tiled,
+                                             call, threads, name, image));
+          for (const bool packet : {true, false})
+            rows.push_back(RegisterBenchmark(lancer_tiled_name(packet, threads, name, image).c_str(),
+                                             bm_lancer_tiled, packet, threads, name, image));
+          for (auto* row : rows) {
+            row->Unit(benchmark::kMillisecond);
+            if (threads == Threads::All) row->UseRealTime();
+          }
         }
-      }
     }
   }
 } registration;

@@ -114,9 +114,10 @@ SetupMasks setup_vectors(const KdTreeView& tree, const Ray* rays, int count, Pac
       reach_max = max(reach_max, reach[a]);
       inv[a] = one / dir[a];
     }
-    const vfloat<N> magnitude = E2 * max(E, reach_max) / max_dir;
+    // E^2 max(E, D) / max|dir| within [2^-50, 2^90], compared without the division.
+    const vfloat<N> scale = E2 * max(E, reach_max);
     const vfloat<N> abs_slack = vfloat<N>(static_cast<float>(kKdExtentSlack)) * E / max_dir;
-    ok = ok & (magnitude >= vfloat<N>(0x1p-50f)) & (magnitude <= vfloat<N>(0x1p90f)) &
+    ok = ok & (scale >= vfloat<N>(0x1p-50f) * max_dir) & (scale <= vfloat<N>(0x1p90f) * max_dir) &
          (abs_slack >= vfloat<N>(0x1p-90f)) & (abs_slack <= vfloat<N>(0x1p60f));
     vfloat<N> t0 = tnear - (abs(tnear) * rel + abs_slack);
     vfloat<N> t1 = tfar + (abs(tfar) * rel + abs_slack);

@@ -7,8 +7,11 @@
 #include <CLI/CLI.hpp>
 
 #include "accel/accel_factory.h"
+#include "app/gen_command.h"
 #include "app/info_command.h"
+#include "app/rays_command.h"
 #include "app/render_command.h"
+#include "app/trace_command.h"
 #include "simd/isa.h"
 
 namespace lancer {
@@ -92,6 +95,77 @@ void add_info_command(CLI::App& app, InfoOptions& opt) {
   add_isa_option(*info, opt.isa);
 }
 
+void add_trace_command(CLI::App& app, TraceOptions& opt) {
+  CLI::App* trace = app.add_subcommand(
+      "trace", "Trace the rays of a ray file on a scene, write the answers and print Mrays/s (docs/ray-files.md)");
+  trace->add_option("scene", opt.scene, "Scene file (.gltf, .glb or .obj)")->required();
+  trace->add_option("--rays", opt.rays, "Ray file: 8 little-endian float32 per ray, ox oy oz tnear dx dy dz tfar")
+      ->required()->type_name("FILE");
+  trace->add_option("--hits", opt.hits,
+                    "Output: per ray float32 t (+inf: none) and uint32 source triangle id (0xFFFFFFFF: none); "
+                    "with --occlusion one byte per ray (1: occluded)")
+      ->required()->type_name("OUT");
+  trace->add_option_function<std::string>(
+           "--mode", [&opt](const std::string& name) { opt.mode = *parse_trace_mode(name); },
+           "packet (each run of 64 consecutive rays traced as one packet, whatever they hold) or single (one "
+           "ray at a time); the answers are the same")
+      ->check(CLI::IsMember({"packet", "single"}))
+      ->default_str("packet");
+  add_isa_option(*trace, opt.isa);
+  trace->add_option("--threads", opt.threads, "Worker threads (0: all cores); the answers do not depend on it")
+      ->check(CLI::Range(0, 4096))->capture_default_str();
+  trace->add_flag("--occlusion", opt.occlusion,
+                  "Answer occluded-or-not instead of the closest hit, with one occluded() call per ray in both "
+                  "modes (there is no packet occlusion kernel)");
+}
+
+void add_rays_command(CLI::App& app, RaysOptions& opt) {
+  CLI::App* rays = app.add_subcommand(
+      "rays", "Write a standard ray set of a scene to a ray file, in 8x8 pixel-tile order (docs/ray-files.md)");
+  rays->add_option("scene", opt.scene, "Scene file (.gltf, .glb or .obj)")->required();
+  rays->add_option_function<std::string>(
+          "--set", [&opt](const std::string& name) { opt.set = *parse_ray_set(name); },
+          "primary (camera rays through the pixel centres), diffuse (one cosine-weighted bounce per primary "
+          "hit) or shadow (one ray per primary hit toward a point on the lights)")
+      ->required()
+      ->check(CLI::IsMember({"primary", "diffuse", "shadow"}));
+  rays->add_option("-o,--output", opt.output, "Ray file to write")->required()->type_name("FILE");
+  const CLI::Validator multiple_of_tile(
+      [](std::string& value) -> std::string {
+        try {
+          if (std::stoi(value) % kRayTileSide == 0) return {};
+        } catch (const std::exception&) {
+        }
+        return "must be a multiple of " + std::to_string(kRayTileSide);
+      },
+      "MULTIPLE OF 8");
+  rays->add_option("--width", opt.width, "Image width in pixels, a multiple of 8")
+      ->check(CLI::Range(8, 16384))->check(multiple_of_tile)->capture_default_str();
+  rays->add_option("--height", opt.height, "Image height in pixels, a multiple of 8")
+      ->check(CLI::Range(8, 16384))->check(multiple_of_tile)->capture_default_str();
+  rays->add_option("--seed", opt.seed, "Random seed of the diffuse and shadow sets")
+      ->check(CLI::NonNegativeNumber)->capture_default_str();
+}
+
+void add_gen_command(CLI::App& app, GenOptions& opt) {
+  CLI::App* gen = app.add_subcommand("gen", "Write a generated scene: Eric Haines' Standard Procedural Databases");
+  gen->add_option("kind", opt.kind, "Generator family (spd: the Standard Procedural Databases, 1987)")
+      ->required()->check(CLI::IsMember({"spd"}));
+  gen->add_option("name", opt.name, "SPD scene: balls, gears, mount, rings or tetra")
+      ->required()->check(CLI::IsMember({"balls", "gears", "mount", "rings", "tetra"}));
+  gen->add_option("-s,--size", opt.size,
+                  "SPD size factor: balls 0..6 (recursion depth), gears 1..44 (gears per side), mount 0..12 "
+                  "(fractal depth), rings 1..50 (pyramid layers), tetra 1..12 (depth)")
+      ->required();
+  gen->add_option("-o,--output", opt.output, "Output binary glTF file (.glb)")->required()->type_name("FILE");
+  gen->add_option("--sphere-subdivisions", opt.tessellation.sphere_subdivisions,
+                  "Icosphere subdivisions per sphere, 20*4^S triangles each (balls, mount, rings)")
+      ->check(CLI::Range(0, 8))->capture_default_str();
+  gen->add_option("--cylinder-sides", opt.tessellation.cylinder_sides,
+                  "Sides per capped cylinder, 4*K triangles each (rings)")
+      ->check(CLI::Range(3, 1024))->capture_default_str();
+}
+
 }  // namespace
 
 int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
@@ -99,8 +173,14 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   app.require_subcommand(1);
   RenderOptions render_opt;
   InfoOptions info_opt;
+  TraceOptions trace_opt;
+  RaysOptions rays_opt;
+  GenOptions gen_opt;
   add_render_command(app, render_opt);
   add_info_command(app, info_opt);
+  add_trace_command(app, trace_opt);
+  add_rays_command(app, rays_opt);
+  add_gen_command(app, gen_opt);
 
   try {
     app.parse(argc, argv);
@@ -117,6 +197,9 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   }
 
   if (app.got_subcommand("render")) return run_render(render_opt, out, err);
+  if (app.got_subcommand("trace")) return run_trace(trace_opt, out, err);
+  if (app.got_subcommand("rays")) return run_rays(rays_opt, out, err);
+  if (app.got_subcommand("gen")) return run_gen(gen_opt, out, err);
   return run_info(info_opt, out, err);
 }
 

@@ -1,5 +1,5 @@
-// The lancer command line: `lancer render`, `lancer info`. Kept out of main() so tests
-// can run it in-process and check exit codes and messages.
+// The lancer command line: `lancer render`, `lancer info`, `lancer rays`, `lancer trace`.
+// Kept out of main() so tests can run it in-process and check exit codes and messages.
 #pragma once
 
 #include <iosfwd>

@@ -12,6 +12,7 @@
 #include <ostream>
 
 #include "accel/accel_factory.h"
+#include "app/camera_choice.h"
 #include "app/progress_reporter.h"
 #include "render/camera.h"
 #include "render/image_io.h"
@@ -23,40 +24,8 @@ namespace lancer {
 
 namespace {
 
-constexpr double kDegrees = 3.14159265358979323846 / 180.0;
-
 // Images larger than this are refused before any allocation (2^28 pixels = 3 GiB of RGB floats).
 constexpr long long kMaxPixels = 1LL << 28;
-
-PinholeCamera choose_camera(const RenderOptions& opt, const Scene& scene, RenderSettings& s) {
-  if (!opt.height_given) s.height = s.width;  // square unless the scene camera says otherwise
-  if (opt.eye || opt.look_at) {
-    if (!opt.eye || !opt.look_at) throw std::invalid_argument("--eye and --look-at must be given together");
-    const float fov = static_cast<float>(opt.fov_degrees.value_or(45.0f) * kDegrees);
-    return PinholeCamera::look_at(*opt.eye, *opt.look_at, opt.up.value_or(glm::vec3(0, 1, 0)), fov, s.width, s.height);
-  }
-  if (opt.camera && *opt.camera >= static_cast<int>(scene.cameras.size()))
-    throw std::invalid_argument("--camera " + std::to_string(*opt.camera) + ": the scene has " +
-                                std::to_string(scene.cameras.size()) + " camera(s)");
-  if (!scene.cameras.empty()) {
-    CameraDesc desc = scene.cameras[opt.camera.value_or(0)];
-    if (!opt.height_given && desc.aspect_ratio && *desc.aspect_ratio > 0.0f)
-      s.height = std::max(1, static_cast<int>(std::lround(s.width / *desc.aspect_ratio)));
-    if (opt.fov_degrees) desc.yfov = static_cast<float>(*opt.fov_degrees * kDegrees);
-    return PinholeCamera::from_desc(desc, s.width, s.height);
-  }
-  if (opt.camera) throw std::invalid_argument("--camera given but the scene has no cameras");
-  return PinholeCamera::framing(scene.bounds(), s.width, s.height);
-}
-
-void print_load_warnings(const Scene& scene, std::ostream& err) {
-  if (scene.stats.degenerate_dropped > 0)
-    err << "lancer: warning: " << scene.source << ": dropped " << scene.stats.degenerate_dropped
-        << " zero-area triangle(s)\n";
-  if (scene.stats.zero_normals_repaired > 0)
-    err << "lancer: warning: " << scene.source << ": " << scene.stats.zero_normals_repaired
-        << " zero-length normal(s); those triangles use their geometric normal\n";
-}
 
 bool has_light(const Scene& scene) {
   if (!scene.lights.empty()) return true;
@@ -66,6 +35,15 @@ bool has_light(const Scene& scene) {
 }
 
 }  // namespace
+
+void print_load_warnings(const Scene& scene, std::ostream& err) {
+  if (scene.stats.degenerate_dropped > 0)
+    err << "lancer: warning: " << scene.source << ": dropped " << scene.stats.degenerate_dropped
+        << " zero-area triangle(s)\n";
+  if (scene.stats.zero_normals_repaired > 0)
+    err << "lancer: warning: " << scene.source << ": " << scene.stats.zero_normals_repaired
+        << " zero-length normal(s); those triangles use their geometric normal\n";
+}
 
 KdBuildOptions kd_options_from(const std::string& split) {
   KdBuildOptions kd;
@@ -101,7 +79,9 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
       err << "lancer: warning: " << scene.source << ": the scene has no lights; the image will be black\n";
 
     RenderSettings& s = opt.settings;
-    const PinholeCamera camera = choose_camera(opt, scene, s);
+    const PinholeCamera camera =
+        choose_camera({opt.camera, opt.eye, opt.look_at, opt.up, opt.fov_degrees}, scene, s.width, s.height,
+                      opt.height_given);
     if (static_cast<long long>(s.width) * s.height > kMaxPixels)
       throw std::invalid_argument("image " + std::to_string(s.width) + "x" + std::to_string(s.height) +
                                   " is too large (at most 2^28 pixels)");

@@ -11,6 +11,7 @@
 #include "accel/kd_build.h"
 #include "simd/isa.h"
 #include "render/render_settings.h"
+#include "scene/scene.h"
 
 namespace lancer {
 
@@ -35,6 +36,9 @@ KdBuildOptions kd_options_from(const std::string& split);
 // The ISA `--isa` names, or the best this CPU supports when empty; throws
 // std::invalid_argument for an unknown name or one this CPU cannot run.
 Isa isa_from(const std::string& name);
+
+// Warns on `err` about what the reader dropped or repaired in `scene`.
+void print_load_warnings(const Scene& scene, std::ostream& err);
 
 int run_render(const RenderOptions& options, std::ostream& out, std::ostream& err);
 

@@ -1,0 +1,37 @@
+#include "app/camera_choice.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+namespace lancer {
+
+namespace {
+constexpr double kDegrees = 3.14159265358979323846 / 180.0;
+}  // namespace
+
+PinholeCamera choose_camera(const CameraRequest& request, const Scene& scene, int width, int& height,
+                            bool height_given) {
+  if (!height_given) height = width;  // square unless the scene camera says otherwise
+  if (request.eye || request.look_at) {
+    if (!request.eye || !request.look_at) throw std::invalid_argument("--eye and --look-at must be given together");
+    const float fov = static_cast<float>(request.fov_degrees.value_or(45.0f) * kDegrees);
+    return PinholeCamera::look_at(*request.eye, *request.look_at, request.up.value_or(glm::vec3(0, 1, 0)), fov, width,
+                                  height);
+  }
+  if (request.camera && *request.camera >= static_cast<int>(scene.cameras.size()))
+    throw std::invalid_argument("--camera " + std::to_string(*request.camera) + ": the scene has " +
+                                std::to_string(scene.cameras.size()) + " camera(s)");
+  if (!scene.cameras.empty()) {
+    CameraDesc desc = scene.cameras[static_cast<std::size_t>(request.camera.value_or(0))];
+    if (!height_given && desc.aspect_ratio && *desc.aspect_ratio > 0.0f)
+      height = std::max(1, static_cast<int>(std::lround(width / *desc.aspect_ratio)));
+    if (request.fov_degrees) desc.yfov = static_cast<float>(*request.fov_degrees * kDegrees);
+    return PinholeCamera::from_desc(desc, width, height);
+  }
+  if (request.camera) throw std::invalid_argument("--camera given but the scene has no cameras");
+  return PinholeCamera::framing(scene.bounds(), width, height);
+}
+
+}  // namespace lancer

@@ -3,7 +3,7 @@ JOBS ?= $(shell nproc)
 BUILD := build/release
 LANCER := $(BUILD)/lancer
 
-.PHONY: render test build configure deps bench-micro bench-embree test-sanitize clean
+.PHONY: render test build configure deps bench bench-micro bench-embree test-sanitize fuzz clean
 
 deps:
 	@scripts/install-deps.sh
@@ -38,5 +38,19 @@ test-sanitize: deps
 	cmake --build build/sanitize -j $(JOBS)
 	ctest --test-dir build/sanitize -j $(JOBS) --output-on-failure
 
+# libFuzzer on every reader, under ASan + UBSan, with clang (tests/fuzz/README.md).
+# Fails when any target finds a crash; the input is kept in build/fuzz/fuzz-findings.
+FUZZ_SECONDS ?= 300
+FUZZ_TARGETS := gltf obj ray_file
+fuzz: deps
+	cmake --preset fuzz >/dev/null
+	cmake --build build/fuzz -j $(JOBS) --target $(FUZZ_TARGETS:%=%_fuzz)
+	tests/fuzz/run_fuzzers.sh build/fuzz $(FUZZ_SECONDS) $(FUZZ_TARGETS)
+
 clean:
 	rm -rf build out
+
+# lancer bench: the scene suite, packet vs single vs Embree (BENCH_ARGS, e.g. --quick).
+bench: configure
+	cmake --build $(BUILD) -j $(JOBS) --target lancer lancer-bench
+	$(LANCER) bench $(BENCH_ARGS)

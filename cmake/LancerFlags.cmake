@@ -10,7 +10,12 @@ if(CMAKE_SYSTEM_PROCESSOR MATCHES "x86_64|AMD64")
 endif()
 # Same arithmetic on every path: no silent fused multiply-adds in generic code.
 target_compile_options(lancer_options INTERFACE -ffp-contract=off)
-if(LANCER_SANITIZE)
+if(LANCER_SANITIZE OR LANCER_FUZZ)
   target_compile_options(lancer_options INTERFACE -fsanitize=address,undefined -fno-omit-frame-pointer -fno-sanitize-recover=all)
   target_link_options(lancer_options INTERFACE -fsanitize=address,undefined)
+endif()
+if(LANCER_FUZZ)
+  # Coverage feedback for libFuzzer in every library; only the fuzz targets themselves
+  # link libFuzzer's main (tests/fuzz/CMakeLists.txt).
+  target_compile_options(lancer_options INTERFACE -fsanitize=fuzzer-no-link)
 endif()

@@ -181,7 +181,8 @@ inline void test_triangle(const KdTreeView& tree, const Ray* rays, PacketRays& p
   const vfloat<N> az = sz * Az, bz = sz * Bz, cz = sz * Cz;
   const vfloat<N> T = U * az + V * bz + W * cz;
   const vfloat<N> t = T / det;
-  const vbool<N> in_range = (t >= load(w, p.tnear + o)) & (t < load(w, p.limit + o)) & (det != zero);
+  const vfloat<N> tnear = load(w, p.tnear + o), limit = load(w, p.limit + o);
+  const vbool<N> in_range = (t >= tnear) & (t < limit) & (det != zero);
   const std::uint32_t hit_bits =
       static_cast<std::uint32_t>(movemask(andnot(andnot(in_range, mixed_signs), is_zero))) & m;
   std::uint32_t todo = hit_bits | zero_bits;

@@ -104,7 +104,8 @@ SetupMasks setup_vectors(const KdTreeView& tree, const Ray* rays, int count, Pac
     }
     const vfloat<N> tnear = load(w, raw[3] + o), tfar = load(w, raw[7] + o);
     // tfar may be +inf (unbounded); tnear must be finite (inf - inf would be NaN below).
-    vbool<N> ok = first_lanes(w, count - o) & (abs(tnear) <= finite_max) & (tfar >= -finite_max);
+    const vbool<N> in_packet = first_lanes(w, count - o);
+    vbool<N> ok = in_packet & (abs(tnear) <= finite_max) & (tfar >= -finite_max);
     vfloat<N> max_dir = zero, reach_max = zero, reach[3], inv[3];
     for (int a = 0; a < 3; ++a) {
       const vfloat<N> ad = abs(dir[a]);
@@ -128,9 +129,11 @@ SetupMasks setup_vectors(const KdTreeView& tree, const Ray* rays, int count, Pac
       t0 = max(t0, enter - (abs(enter) * rel + abs_slack));
       t1 = min(t1, leave + (abs(leave) * rel + abs_slack));
     }
-    ok = ok & (abs(t0) <= vfloat<N>(0x1p64f)) & (abs(t1) <= vfloat<N>(0x1p64f));
+    const vfloat<N> t_limit(0x1p64f);
+    ok = ok & (abs(t0) <= t_limit);
+    ok = ok & (abs(t1) <= t_limit);
     const std::uint32_t ok_bits = static_cast<std::uint32_t>(movemask(ok));
-    const std::uint32_t valid_bits = static_cast<std::uint32_t>(movemask(first_lanes(w, count - o)));
+    const std::uint32_t valid_bits = static_cast<std::uint32_t>(movemask(in_packet));
     const std::uint32_t in_bits = static_cast<std::uint32_t>(movemask(ok & (t0 <= t1)));
     out.slow |= std::uint64_t(valid_bits & ~ok_bits) << o;
     out.packet |= std::uint64_t(in_bits) << o;

@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "accel/accel_factory.h"
+#include "app/bench_command.h"
 #include "app/gen_command.h"
 #include "app/info_command.h"
 #include "app/rays_command.h"
@@ -52,12 +53,44 @@ void add_render_command(CLI::App& app, RenderOptions& opt) {
             "--height", [&opt](int h) { opt.settings.height = h; opt.height_given = true; },
             "Image height in pixels (default: from the camera's aspect ratio, else the width)")
       ->check(CLI::Range(1, 16384));
-  render->add_option("--spp", s.spp, "Jittered samples per pixel")->check(CLI::Range(1, 1 << 20))->capture_default_str();
+  render->add_option_function<int>(
+            "--spp", [&opt](int spp) { opt.settings.spp = spp; opt.spp_given = true; },
+            "Jittered samples per pixel (with --time: at most this many)")
+      ->check(CLI::Range(1, 1 << 20))
+      ->default_str(std::to_string(s.spp));
+  render->add_option("--time", opt.time_limit_s,
+                     "Render for this many seconds (as many samples per pixel as fit, up to --spp when given); "
+                     "the image is written when the time is up")
+      ->check(CLI::Range(0.001, 1e7))->type_name("SECONDS");
+  render->add_option("--checkpoint", opt.checkpoint_s,
+                     "Also write the outputs every this many seconds while rendering (after a full pass)")
+      ->check(CLI::Range(0.001, 1e7))->type_name("SECONDS");
+  s.integrator = IntegratorKind::Path;
   render->add_option_function<std::string>(
             "--integrator", [&s](const std::string& name) { s.integrator = *parse_integrator(name); },
-            "whitted, normals, depth or primid")
-      ->check(CLI::IsMember({"whitted", "normals", "depth", "primid"}))
-      ->default_str("whitted");
+            "path (physically based), whitted (recursive ray tracing), or the debug views normals, albedo, "
+            "depth, ao (ambient occlusion), primid")
+      ->check(CLI::IsMember({"path", "whitted", "normals", "albedo", "depth", "ao", "primid"}))
+      ->default_str("path");
+  render->add_option("--env", opt.env_file,
+                     "Environment: an equirectangular map (.exr, .hdr, .png) lighting the scene (path only; "
+                     "default: black)")
+      ->type_name("FILE");
+  render->add_option("--env-color", opt.env_color, "Environment: a constant colour R,G,B (linear radiance)")
+      ->expected(3)->delimiter(',')->type_name("R,G,B");
+  render->add_option("--env-scale", opt.env_scale, "Multiplies the environment's radiance")
+      ->check(CLI::Range(0.0, 1e30))->capture_default_str();
+  render->add_option_function<std::string>(
+            "--filter", [&s](const std::string& name) {
+              s.filter = name == "gaussian" ? PixelFilterType::Gaussian : PixelFilterType::Box;
+            },
+            "Pixel filter of the path tracer: box (jitter over the pixel) or gaussian (sigma 0.5 px, radius 1.5 px)")
+      ->check(CLI::IsMember({"box", "gaussian"}))
+      ->default_str("box");
+  render->add_option("--aperture", opt.aperture, "Thin-lens aperture radius in scene units (0: pinhole)")
+      ->check(CLI::Range(0.0, 1e30));
+  render->add_option("--focus-distance", opt.focus_distance, "Distance to the plane in focus, along the view axis")
+      ->check(CLI::Range(1e-30, 1e30));
   render->add_option_function<std::string>(
             "--mode", [&s](const std::string& name) { s.mode = *parse_trace_mode(name); },
             "Primary rays: packet (8x8 pixel blocks traced together) or single (one ray at a time); "
@@ -166,6 +199,16 @@ void add_gen_command(CLI::App& app, GenOptions& opt) {
       ->check(CLI::Range(3, 1024))->capture_default_str();
 }
 
+// Everything after `bench` goes to lancer-bench untouched, --help included.
+CLI::App* add_bench_command(CLI::App& app) {
+  CLI::App* bench = app.add_subcommand(
+      "bench", "Benchmark Lancer beside Embree 3 (runs lancer-bench; `lancer bench --help` for its options)");
+  bench->prefix_command();
+  bench->allow_extras();
+  bench->set_help_flag();
+  return bench;
+}
+
 }  // namespace
 
 int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& err) {
@@ -181,6 +224,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   add_trace_command(app, trace_opt);
   add_rays_command(app, rays_opt);
   add_gen_command(app, gen_opt);
+  CLI::App* bench = add_bench_command(app);
 
   try {
     app.parse(argc, argv);
@@ -196,6 +240,7 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     return 2;
   }
 
+  if (app.got_subcommand(bench)) return run_bench(bench->remaining(), err);
   if (app.got_subcommand("render")) return run_render(render_opt, out, err);
   if (app.got_subcommand("trace")) return run_trace(trace_opt, out, err);
   if (app.got_subcommand("rays")) return run_rays(rays_opt, out, err);

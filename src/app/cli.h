@@ -1,4 +1,5 @@
-// The lancer command line: `lancer render`, `lancer info`, `lancer rays`, `lancer trace`.
+// The lancer command line: `lancer render`, `lancer info`, `lancer rays`, `lancer trace`,
+// `lancer gen` and `lancer bench` (which runs the lancer-bench program).
 // Kept out of main() so tests can run it in-process and check exit codes and messages.
 #pragma once
 

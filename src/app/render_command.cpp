@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -13,8 +14,10 @@
 
 #include "accel/accel_factory.h"
 #include "app/camera_choice.h"
+#include "app/interrupt.h"
 #include "app/progress_reporter.h"
 #include "render/camera.h"
+#include "render/environment.h"
 #include "render/image_io.h"
 #include "render/renderer.h"
 #include "scene/load_scene.h"
@@ -26,6 +29,8 @@ namespace {
 
 // Images larger than this are refused before any allocation (2^28 pixels = 3 GiB of RGB floats).
 constexpr long long kMaxPixels = 1LL << 28;
+// Passes a --time render may make (the most --spp accepts).
+constexpr int kMaxSpp = 1 << 20;
 
 bool has_light(const Scene& scene) {
   if (!scene.lights.empty()) return true;
@@ -75,13 +80,28 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
     const auto t_load = std::chrono::steady_clock::now();
     const Scene scene = load_scene(opt.scene);
     print_load_warnings(scene, err);
-    if (!has_light(scene) && opt.settings.integrator == IntegratorKind::Whitted)
+    const bool lit_by_env = !opt.env_file.empty() || !opt.env_color.empty();
+    if (!has_light(scene) && !lit_by_env &&
+        (opt.settings.integrator == IntegratorKind::Whitted || opt.settings.integrator == IntegratorKind::Path))
       err << "lancer: warning: " << scene.source << ": the scene has no lights; the image will be black\n";
 
     RenderSettings& s = opt.settings;
-    const PinholeCamera camera =
+    PinholeCamera camera =
         choose_camera({opt.camera, opt.eye, opt.look_at, opt.up, opt.fov_degrees}, scene, s.width, s.height,
                       opt.height_given);
+    if (opt.aperture || opt.focus_distance)
+      camera.set_thin_lens(opt.aperture.value_or(camera.aperture_radius()),
+                           opt.focus_distance.value_or(camera.focus_distance()));
+    std::unique_ptr<Environment> environment;
+    if (!opt.env_file.empty() && !opt.env_color.empty())
+      throw std::invalid_argument("--env and --env-color: give one environment, not both");
+    if (!opt.env_file.empty()) environment = std::make_unique<Environment>(opt.env_file, opt.env_scale);
+    if (!opt.env_color.empty())
+      environment = std::make_unique<Environment>(
+          opt.env_scale * glm::vec3(opt.env_color[0], opt.env_color[1], opt.env_color[2]));
+    if (environment && s.integrator != IntegratorKind::Path)
+      err << "lancer: warning: the environment lights only the path integrator\n";
+    s.environment = environment.get();
     if (static_cast<long long>(s.width) * s.height > kMaxPixels)
       throw std::invalid_argument("image " + std::to_string(s.width) + "x" + std::to_string(s.height) +
                                   " is too large (at most 2^28 pixels)");
@@ -92,20 +112,43 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
     const double build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_build).count();
     const double load_s = std::chrono::duration<double>(t_build - t_load).count();
 
+    // --time without --spp: as many passes as the time allows.
+    if (opt.time_limit_s > 0.0 && !opt.spp_given) s.spp = kMaxSpp;
+    for (const auto& o : opt.outputs) {
+      const std::filesystem::path parent = std::filesystem::path(o).parent_path();
+      if (!parent.empty()) std::filesystem::create_directories(parent);
+    }
+    auto write_outputs = [&](const ImageRGB& image) {
+      for (const auto& o : opt.outputs) write_image(image, o);
+    };
+
+    const InterruptGuard interrupt;
+    RenderControl control;
+    control.stop = &interrupt.flag();
+    control.time_limit_s = opt.time_limit_s;
+    control.checkpoint_s = opt.checkpoint_s;
+    control.on_checkpoint = [&](const ImageRGB& image, int) { write_outputs(image); };
     ProgressReporter progress(err, opt.progress && isatty(STDERR_FILENO));
+    const auto t_render = std::chrono::steady_clock::now();
     RenderStats stats;
-    ImageRGB image = render_image(scene, *accel, camera, s, stats, [&](std::size_t done, std::size_t total) {
-      if (opt.progress) progress.update(done, total);
-    });
+    ImageRGB image = render_image(
+        scene, *accel, camera, s, stats,
+        [&](std::size_t done, std::size_t total) {
+          if (!opt.progress) return;
+          if (opt.time_limit_s > 0.0 && !opt.spp_given) {  // progress is the time used
+            const double used = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_render).count();
+            progress.update(static_cast<std::size_t>(std::min(used, opt.time_limit_s) * 1000.0),
+                            static_cast<std::size_t>(opt.time_limit_s * 1000.0));
+          } else {
+            progress.update(done, total);
+          }
+        },
+        control);
     progress.finish();
 
     if (const std::size_t bad = count_non_finite(image); bad > 0)
       err << "lancer: warning: " << bad << " pixel(s) are not finite\n";
-    for (const auto& o : opt.outputs) {
-      const std::filesystem::path parent = std::filesystem::path(o).parent_path();
-      if (!parent.empty()) std::filesystem::create_directories(parent);
-      write_image(image, o);
-    }
+    write_outputs(image);
 
     char line[1024];
     const double mrays = stats.seconds > 0.0 ? static_cast<double>(stats.rays) / stats.seconds * 1e-6 : 0.0;
@@ -116,13 +159,18 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
     std::snprintf(line, sizeof line,
                   "lancer: %s %dx%d, %d spp, %s, accel %s, isa %s, mode %s (%zu triangles): load %.2f s, "
                   "build %.2f s, render %.2f s, %.2f Mrays, %.2f Mrays/s, primary %.2f Mrays/s/thread",
-                  scene.source.c_str(), s.width, s.height, s.spp, std::string(integrator_name(s.integrator)).c_str(),
+                  scene.source.c_str(), s.width, s.height, stats.stopped ? static_cast<int>(stats.max_spp) : s.spp,
+                  std::string(integrator_name(s.integrator)).c_str(),
                   opt.accel.c_str(), std::string(isa_name(opt.accel == "brute" ? Isa::Scalar : isa)).c_str(),
                   std::string(trace_mode_name(s.mode)).c_str(), scene.triangle_count(), load_s, build_s,
                   stats.seconds, static_cast<double>(stats.rays) * 1e-6, mrays, primary_mrays);
     out << line << "\n";
+    if (stats.stopped)
+      out << "lancer: " << (interrupt.exit_code() != 0 ? "interrupted" : "time limit reached") << " after "
+          << stats.passes << " full pass(es); pixels have " << stats.min_spp << " to " << stats.max_spp
+          << " samples\n";
     for (const auto& o : opt.outputs) out << "wrote " << o << "\n";
-    return 0;
+    return interrupt.exit_code();
   } catch (const std::bad_alloc&) {
     err << "lancer: error: out of memory\n";
   } catch (const std::exception& e) {

@@ -27,9 +27,18 @@ struct RenderOptions {
   std::optional<glm::vec3> eye, look_at, up;
   std::optional<float> fov_degrees;  // vertical
   bool progress = true;
+  bool spp_given = false;       // --spp on the command line (else --time renders until its limit)
+  double time_limit_s = 0.0;    // --time: stop after this many seconds (0: none)
+  double checkpoint_s = 0.0;    // --checkpoint: write the outputs this often (0: never)
+  std::string env_file;                // --env
+  std::vector<float> env_color;        // --env-color (3 values) or empty
+  float env_scale = 1.0f;              // --env-scale
+  std::optional<float> aperture;       // --aperture (else the glTF camera's extras, else 0)
+  std::optional<float> focus_distance; // --focus-distance
 };
 
-// Returns the process exit code; messages go to `err`, the summary line to `out`.
+// Returns the process exit code (130 or 143 after SIGINT or SIGTERM, once the image so far
+// is written); messages go to `err`, the summary line to `out`.
 // The kd-tree options `--kd-split` selects; throws std::invalid_argument on a bad name.
 KdBuildOptions kd_options_from(const std::string& split);
 

@@ -1,8 +1,8 @@
 #include "app/trace_command.h"
 
 #include <algorithm>
-#include <array>
 #include <chrono>
+#include <cstdint>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -11,56 +11,15 @@
 #include <stdexcept>
 #include <vector>
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
 #include "accel/accel_factory.h"
 #include "app/render_command.h"
+#include "render/ray_batch.h"
 #include "render/ray_file.h"
 #include "scene/load_scene.h"
 
 namespace lancer {
-
-namespace {
-
-// Rays per packet in packet mode, and per parallel work item in every mode.
-constexpr std::size_t kChunk = 64;
-
-// The answers of one run: hit records, or occlusion bytes.
-struct Answers {
-  std::vector<HitRecord> hits;
-  std::vector<std::uint8_t> occluded;
-};
-
-// Traces every ray on the arena's threads; each chunk of kChunk rays is one work item
-// and writes only its own answers, so the result is the same for any thread count.
-void trace_rays(const Accelerator& accel, const Scene& scene, const std::vector<Ray>& rays, const TraceOptions& opt,
-                tbb::task_arena& arena, Answers& answers) {
-  const std::size_t chunks = (rays.size() + kChunk - 1) / kChunk;
-  arena.execute([&] {
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, chunks), [&](const tbb::blocked_range<std::size_t>& r) {
-      std::array<Hit, kChunk> local;
-      for (std::size_t c = r.begin(); c != r.end(); ++c) {
-        const std::size_t first = c * kChunk;
-        const std::size_t count = std::min(kChunk, rays.size() - first);
-        if (opt.occlusion) {
-          for (std::size_t i = first; i < first + count; ++i) answers.occluded[i] = accel.occluded(rays[i]) ? 1 : 0;
-          continue;
-        }
-        if (opt.mode == TraceMode::Packet) {
-          accel.intersect_packet(rays.data() + first, local.data(), static_cast<int>(count));
-        } else {
-          for (std::size_t i = 0; i < count; ++i) local[i] = accel.intersect(rays[first + i]);
-        }
-        for (std::size_t i = 0; i < count; ++i)
-          answers.hits[first + i] = make_hit_record(local[i], scene.source_triangle_id);
-      }
-    });
-  });
-}
-
-}  // namespace
 
 int run_trace(const TraceOptions& opt, std::ostream& out, std::ostream& err) {
   try {
@@ -76,26 +35,31 @@ int run_trace(const TraceOptions& opt, std::ostream& out, std::ostream& err) {
     std::unique_ptr<Accelerator> accel;
     arena.execute([&] { accel = make_accelerator("kdtree", scene.triangles, KdBuildOptions{}, isa); });
 
-    Answers answers;
-    if (opt.occlusion) {
-      answers.occluded.resize(rays.size());
-    } else {
-      answers.hits.resize(rays.size());
-    }
+    // The timed part is the tracing alone (render/ray_batch.h); turning hits into records is not.
+    std::vector<Hit> hits;
+    std::vector<std::uint8_t> occluded;
     const auto start = std::chrono::steady_clock::now();
-    trace_rays(*accel, scene, rays, opt, arena, answers);
+    if (opt.occlusion) {
+      occluded.resize(rays.size());
+      trace_occluded(*accel, rays, arena, occluded);
+    } else {
+      hits.resize(rays.size());
+      trace_closest(*accel, rays, opt.mode, arena, hits);
+    }
     const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
     const std::filesystem::path parent = std::filesystem::path(opt.hits).parent_path();
     if (!parent.empty()) std::filesystem::create_directories(parent);
     std::size_t answered = 0;
     if (opt.occlusion) {
-      answered = static_cast<std::size_t>(std::count(answers.occluded.begin(), answers.occluded.end(), 1));
-      write_occlusion(opt.hits, answers.occluded);
+      answered = static_cast<std::size_t>(std::count(occluded.begin(), occluded.end(), 1));
+      write_occlusion(opt.hits, occluded);
     } else {
+      std::vector<HitRecord> records(hits.size());
+      for (std::size_t i = 0; i < hits.size(); ++i) records[i] = make_hit_record(hits[i], scene.source_triangle_id);
       answered = static_cast<std::size_t>(
-          std::count_if(answers.hits.begin(), answers.hits.end(), [](const HitRecord& h) { return h.id != kNoHit; }));
-      write_hits(opt.hits, answers.hits);
+          std::count_if(records.begin(), records.end(), [](const HitRecord& h) { return h.id != kNoHit; }));
+      write_hits(opt.hits, records);
     }
 
     const double mrays = seconds > 0.0 ? static_cast<double>(rays.size()) / seconds * 1e-6 : 0.0;

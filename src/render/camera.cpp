@@ -1,6 +1,8 @@
 #include "render/camera.h"
 
 #include <cmath>
+#include <limits>
+#include <numbers>
 #include <stdexcept>
 
 #include <glm/geometric.hpp>
@@ -35,7 +37,18 @@ PinholeCamera PinholeCamera::from_desc(const CameraDesc& desc, int width, int he
   const glm::vec3 eye(m[3]);
   const glm::vec3 forward = -glm::vec3(m[2]);
   const glm::vec3 up(m[1]);
-  return look_at(eye, eye + forward, up, desc.yfov, width, height);
+  PinholeCamera cam = look_at(eye, eye + forward, up, desc.yfov, width, height);
+  if (desc.aperture_radius)
+    cam.set_thin_lens(*desc.aperture_radius, desc.focus_distance.value_or(std::numeric_limits<float>::infinity()));
+  return cam;
+}
+
+void PinholeCamera::set_thin_lens(float aperture_radius, float focus_distance) {
+  if (!(std::isfinite(aperture_radius) && aperture_radius >= 0.0f))
+    throw std::invalid_argument("camera: aperture radius must be finite and >= 0");
+  if (!(focus_distance > 0.0f)) throw std::invalid_argument("camera: focus distance must be positive");
+  aperture_radius_ = aperture_radius;
+  focus_distance_ = focus_distance;
 }
 
 PinholeCamera PinholeCamera::framing(const Bounds3& box, int width, int height) {
@@ -60,6 +73,37 @@ Ray PinholeCamera::generate(float i, float j) const {
   r.tnear = 0.0f;
   r.tfar = kInfinity;
   return r;
+}
+
+Ray PinholeCamera::generate(float i, float j, glm::vec2 lens_u) const {
+  if (aperture_radius_ == 0.0f) return generate(i, j);
+  const float sx = 2.0f * (i / static_cast<float>(width_) - 0.5f);
+  const float sy = 2.0f * (j / static_cast<float>(height_) - 0.5f);
+  const glm::vec3 d = forward_ + sx * x_axis_ + sy * y_axis_;  // d.f = 1
+  const glm::vec2 lens = aperture_radius_ * concentric_disk(lens_u);
+  Ray r;
+  r.org = origin_ + lens.x * glm::normalize(x_axis_) + lens.y * glm::normalize(y_axis_);
+  r.dir = std::isinf(focus_distance_) ? glm::normalize(d) : glm::normalize(origin_ + focus_distance_ * d - r.org);
+  r.tnear = 0.0f;
+  r.tfar = kInfinity;
+  return r;
+}
+
+glm::vec2 concentric_disk(glm::vec2 u) {
+  const float a = 2.0f * u.x - 1.0f, b = 2.0f * u.y - 1.0f;
+  if (a == 0.0f && b == 0.0f) return {0.0f, 0.0f};
+  // The square's four triangular quarters go to the disk's four quarter sectors; the
+  // radius is the larger coordinate, the angle linear along each square ring.
+  constexpr float kQuarterPi = std::numbers::pi_v<float> / 4.0f;
+  float r, phi;
+  if (std::abs(a) > std::abs(b)) {
+    r = a;
+    phi = kQuarterPi * (b / a);
+  } else {
+    r = b;
+    phi = 2.0f * kQuarterPi - kQuarterPi * (a / b);
+  }
+  return {r * std::cos(phi), r * std::sin(phi)};
 }
 
 }  // namespace lancer

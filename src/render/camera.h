@@ -1,8 +1,19 @@
 // The pinhole camera of the course: origin o, optical axis f, image axes x and y scaled to
 // the field of view. For continuous pixel coordinates (i, j), i in [0, W] to the right and
 // j in [0, H] downwards,  d = f + 2(i/W - 0.5) x + 2(j/H - 0.5) y,  normalised.
+//
+// Optionally a thin lens (Kolb, Mitchell & Hanrahan 1995; Pharr, Jakob & Humphreys, PBR
+// 4th ed., section 5.2.3): a disk of radius aperture_radius around o, perpendicular to f,
+// focused on the plane at focus_distance along f. A ray through pixel (i, j) leaves from a
+// point on the disk (lens_u mapped by the concentric map) towards the point where the
+// pinhole ray through (i, j) meets the focus plane, o + focus_distance * d (d unnormalised,
+// d.f = 1), so everything on that plane is sharp. An infinite focus distance keeps every
+// ray parallel to the pinhole ray. With aperture 0 the camera is exactly the pinhole.
 #pragma once
 
+#include <limits>
+
+#include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
 #include "accel/ray.h"
@@ -18,13 +29,24 @@ class PinholeCamera {
   // the image size is not positive.
   static PinholeCamera look_at(const glm::vec3& eye, const glm::vec3& target, const glm::vec3& up, float vfov,
                                int width, int height);
-  // A glTF camera (looks down its local -z, +y up) with its yfov.
+  // A glTF camera (looks down its local -z, +y up) with its yfov, and its thin lens when
+  // the description has an aperture (focus at infinity unless a focus distance is given).
   static PinholeCamera from_desc(const CameraDesc& desc, int width, int height);
   // Looks at the box from its +z side (the glTF "front"), far enough to see all of it.
   static PinholeCamera framing(const Bounds3& box, int width, int height);
 
-  // A primary ray through continuous pixel position (i, j); dir is unit length.
+  // A primary ray through continuous pixel position (i, j); dir is unit length. Always
+  // the pinhole ray from origin(), whatever the lens.
   Ray generate(float i, float j) const;
+  // The same through the thin lens at lens_u in [0, 1)^2; identical to generate(i, j)
+  // (bit for bit) when the aperture radius is 0.
+  Ray generate(float i, float j, glm::vec2 lens_u) const;
+
+  // aperture_radius in scene units (0: pinhole); focus_distance along the optical axis,
+  // in scene units, > 0, may be +infinity. Throws std::invalid_argument otherwise.
+  void set_thin_lens(float aperture_radius, float focus_distance);
+  float aperture_radius() const { return aperture_radius_; }
+  float focus_distance() const { return focus_distance_; }
 
   const glm::vec3& origin() const { return origin_; }
   const glm::vec3& forward() const { return forward_; }
@@ -40,6 +62,12 @@ class PinholeCamera {
   glm::vec3 y_axis_{0.0f, -1.0f, 0.0f};   // y: down, length tan(vfov/2)
   int width_ = 1;
   int height_ = 1;
+  float aperture_radius_ = 0.0f;
+  float focus_distance_ = std::numeric_limits<float>::infinity();
 };
+
+// Shirley & Chiu's concentric map ("A Low Distortion Map Between Disk and Square", JGT
+// 2(3), 1997): [0, 1)^2 onto the unit disk, area-preserving, squares to rings.
+glm::vec2 concentric_disk(glm::vec2 u);
 
 }  // namespace lancer

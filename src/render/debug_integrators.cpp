@@ -1,6 +1,13 @@
 #include "render/debug_integrators.h"
 
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+#include "accel/ray_offset.h"
+#include "render/bsdf.h"
 #include "render/sampler.h"
+#include "render/shading_inputs.h"
 #include "render/surface.h"
 
 namespace lancer {
@@ -22,14 +29,41 @@ glm::vec3 debug_radiance_from_hit(IntegratorKind kind, const Scene& scene, const
   switch (kind) {
     case IntegratorKind::Normals:
       return make_surface_point(scene, ray, hit).stored_shading_normal() * 0.5f + glm::vec3(0.5f);
+    case IntegratorKind::Albedo:
+      return evaluate_shading(scene, ray, hit).base_color;
     case IntegratorKind::Depth:
       return glm::vec3(hit.t);
     case IntegratorKind::PrimId:
       return primid_color(hit.prim < scene.source_triangle_id.size() ? scene.source_triangle_id[hit.prim] : hit.prim);
+    case IntegratorKind::Path:
     case IntegratorKind::Whitted:
+    case IntegratorKind::Ao:
       break;
   }
   return glm::vec3(0.0f);
+}
+
+glm::vec3 ambient_occlusion(const Scene& scene, const Accelerator& accel, const Ray& ray, const Hit& hit,
+                            PixelSampler& sampler, std::uint64_t& rays) {
+  if (!hit.valid()) return glm::vec3(0.0f);
+  const ShadingInputs si = evaluate_shading(scene, ray, hit);
+  const glm::vec3 e = scene.bounds().extent();
+  const float reach = kAoRadius * std::sqrt(glm::dot(e, e));
+  const ShadingFrame frame = ShadingFrame::from_normal(si.ng);
+  const glm::vec3 origin = offset_ray_origin(si.p, si.ng);
+  int open = 0;
+  for (int k = 0; k < kAoRays; ++k) {
+    // Cosine-weighted (Malley's method: uniform on the disk, lifted to the hemisphere).
+    const float r = std::sqrt(sampler.next()), phi = 6.2831853f * sampler.next();
+    const glm::vec3 local(r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0f, 1.0f - r * r)));
+    Ray probe;
+    probe.org = origin;
+    probe.dir = frame.to_world(local);
+    probe.tfar = reach;
+    ++rays;
+    open += accel.occluded(probe) ? 0 : 1;
+  }
+  return glm::vec3(static_cast<float>(open) / kAoRays);
 }
 
 }  // namespace lancer

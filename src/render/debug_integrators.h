@@ -14,6 +14,7 @@
 
 #include "accel/accelerator.h"
 #include "render/render_settings.h"
+#include "render/sampler.h"
 #include "scene/scene.h"
 
 namespace lancer {
@@ -21,11 +22,22 @@ namespace lancer {
 // A colour with channels in [0.15, 1] from a hash of `id`.
 glm::vec3 primid_color(std::uint32_t id);
 
-// `kind` must be Normals, Depth or PrimId. `ray.dir` must be unit length. Counts one ray.
+// albedo:  the base colour at the hit (factor times texture, linear);
+// ao:      ambient occlusion, the fraction of kAoRays cosine-distributed rays from the hit
+//          (about the geometric normal, on the ray's side) that travel kAoRadius times the
+//          scene's bounding-box diagonal without hitting anything, as grey.
+inline constexpr int kAoRays = 16;
+inline constexpr float kAoRadius = 0.1f;
+
+// `kind` must be Normals, Albedo, Depth or PrimId. `ray.dir` must be unit length. Counts one ray.
 glm::vec3 debug_radiance(IntegratorKind kind, const Scene& scene, const Accelerator& accel, const Ray& ray,
                          std::uint64_t& rays);
 // debug_radiance() for a ray the caller has already traced: `hit` must be
 // accel.intersect(ray). Traces nothing, so there is no ray count to add to.
 glm::vec3 debug_radiance_from_hit(IntegratorKind kind, const Scene& scene, const Ray& ray, const Hit& hit);
+
+// The ao view at a camera ray's hit; `rays` counts the occlusion rays traced.
+glm::vec3 ambient_occlusion(const Scene& scene, const Accelerator& accel, const Ray& ray, const Hit& hit,
+                            PixelSampler& sampler, std::uint64_t& rays);
 
 }  // namespace lancer

@@ -55,7 +55,7 @@ PunctualIncidence illuminate(const PunctualLight& light, const glm::vec3& p) {
   return in;
 }
 
-AreaLights::AreaLights(const Scene& scene) {
+AreaLights::AreaLights(const Scene& scene) : light_of_prim_(scene.triangle_count(), -1) {
   double total = 0.0;
   for (std::size_t i = 0; i < scene.triangle_count(); ++i) {
     const Material& m = scene.materials[scene.material_id[i]];
@@ -75,6 +75,7 @@ AreaLights::AreaLights(const Scene& scene) {
     if (!(len > 0.0f) || !std::isfinite(len) || !(power > 0.0) || !std::isfinite(power)) continue;
     t.normal = n / len;
     total += power;
+    light_of_prim_[i] = static_cast<std::int32_t>(lights_.size());
     lights_.push_back(t);
     cdf_.push_back(total);
   }
@@ -101,7 +102,16 @@ AreaLightSample AreaLights::sample(float u_pick, float u1, float u2) const {
   out.normal = t.normal;
   out.radiance = t.radiance;
   out.pdf_area = pick_probability(i) / t.area;
+  out.prim = t.prim;
+  out.b1 = s;
+  out.b2 = r;
   return out;
+}
+
+float AreaLights::pdf_area(std::uint32_t prim) const {
+  if (prim >= light_of_prim_.size() || light_of_prim_[prim] < 0) return 0.0f;
+  const auto i = static_cast<std::size_t>(light_of_prim_[prim]);
+  return pick_probability(i) / lights_[i].area;
 }
 
 }  // namespace lancer

@@ -39,6 +39,8 @@ struct AreaLightSample {
   glm::vec3 normal{0.0f};  // the light's front side
   glm::vec3 radiance{0.0f};
   float pdf_area = 0.0f;   // per unit area, including the choice of the triangle
+  std::uint32_t prim = 0;  // the triangle, and the point's barycentrics (Hit's u, v)
+  float b1 = 0.0f, b2 = 0.0f;
 };
 
 // All emissive triangles of a scene, chosen in proportion to their power
@@ -55,10 +57,14 @@ class AreaLights {
 
   // u_pick, u1, u2 in [0, 1). Must not be called when empty().
   AreaLightSample sample(float u_pick, float u1, float u2) const;
+  // The area density sample() gives points of triangle `prim` (0 when it is not a light):
+  // what a path that hits the light by BSDF sampling needs for multiple importance sampling.
+  float pdf_area(std::uint32_t prim) const;
 
  private:
   std::vector<EmissiveTriangle> lights_;
   std::vector<double> cdf_;  // cdf_[i]: total power of lights 0..i, cdf_.back() == total
+  std::vector<std::int32_t> light_of_prim_;  // per scene triangle: index into lights_, or -1
 };
 
 }  // namespace lancer

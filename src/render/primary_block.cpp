@@ -14,11 +14,17 @@ std::vector<PixelBlock> make_blocks(const Tile& tile) {
   return blocks;
 }
 
-void PrimaryBlock::generate(const PinholeCamera& camera, const PixelBlock& block, int sample, std::uint64_t seed) {
+namespace {
+void check_block(const PixelBlock& block) {
   if (block.width() <= 0 || block.height() <= 0 || block.width() > kBlockSide || block.height() > kBlockSide)
     throw std::invalid_argument("primary block: " + std::to_string(block.width()) + "x" +
                                 std::to_string(block.height()) + " pixels (expected 1 to " +
                                 std::to_string(kBlockSide) + " on a side)");
+}
+}  // namespace
+
+void PrimaryBlock::generate(const PinholeCamera& camera, const PixelBlock& block, int sample, std::uint64_t seed) {
+  check_block(block);
   samplers_.clear();
   count_ = 0;
   for (int y = block.y0; y < block.y1; ++y) {
@@ -30,6 +36,23 @@ void PrimaryBlock::generate(const PinholeCamera& camera, const PixelBlock& block
       const float v = sampler.next();
       const Ray ray = camera.generate(static_cast<float>(x) + u, static_cast<float>(y) + v);
       rays_[static_cast<std::size_t>(count_++)] = ray;
+    }
+  }
+}
+
+void PrimaryBlock::generate_path(const PinholeCamera& camera, const PixelFilter& filter, const PixelBlock& block,
+                                 int sample, std::uint64_t seed) {
+  check_block(block);
+  sobol_.clear();
+  count_ = 0;
+  for (int y = block.y0; y < block.y1; ++y) {
+    for (int x = block.x0; x < block.x1; ++x) {
+      SobolSampler& sampler = sobol_.emplace_back(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y),
+                                                  static_cast<std::uint32_t>(sample), seed);
+      const glm::vec2 offset = filter.sample_offset(sampler.next2());
+      const glm::vec2 lens = sampler.next2();
+      rays_[static_cast<std::size_t>(count_++)] =
+          camera.generate(static_cast<float>(x) + 0.5f + offset.x, static_cast<float>(y) + 0.5f + offset.y, lens);
     }
   }
 }

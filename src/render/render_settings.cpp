@@ -4,17 +4,20 @@ namespace lancer {
 
 std::string_view integrator_name(IntegratorKind kind) {
   switch (kind) {
+    case IntegratorKind::Path: return "path";
     case IntegratorKind::Whitted: return "whitted";
     case IntegratorKind::Normals: return "normals";
+    case IntegratorKind::Albedo: return "albedo";
     case IntegratorKind::Depth: return "depth";
+    case IntegratorKind::Ao: return "ao";
     case IntegratorKind::PrimId: return "primid";
   }
   return "unknown";
 }
 
 std::optional<IntegratorKind> parse_integrator(std::string_view name) {
-  for (IntegratorKind k : {IntegratorKind::Whitted, IntegratorKind::Normals, IntegratorKind::Depth,
-                           IntegratorKind::PrimId})
+  for (IntegratorKind k : {IntegratorKind::Path, IntegratorKind::Whitted, IntegratorKind::Normals,
+                           IntegratorKind::Albedo, IntegratorKind::Depth, IntegratorKind::Ao, IntegratorKind::PrimId})
     if (integrator_name(k) == name) return k;
   return std::nullopt;
 }

@@ -5,9 +5,13 @@
 #include <optional>
 #include <string_view>
 
+#include "render/pixel_filter.h"
+
 namespace lancer {
 
-enum class IntegratorKind { Whitted, Normals, Depth, PrimId };
+class Environment;
+
+enum class IntegratorKind { Path, Whitted, Normals, Albedo, Depth, Ao, PrimId };
 
 std::string_view integrator_name(IntegratorKind kind);
 std::optional<IntegratorKind> parse_integrator(std::string_view name);
@@ -24,12 +28,15 @@ struct RenderSettings {
   int width = 512;
   int height = 512;
   int spp = 16;            // jittered samples per pixel
-  IntegratorKind integrator = IntegratorKind::Whitted;
-  int max_depth = 8;       // reflection/refraction recursion limit
+  IntegratorKind integrator = IntegratorKind::Whitted;  // the command line's default is path
+  int max_depth = 8;       // path: bounces; whitted: reflection/refraction recursion limit
   int light_samples = 4;   // shadow rays toward area lights, in total, per shading point
   int threads = 0;         // 0: all hardware threads
   std::uint64_t seed = 0;
   int tile_size = 16;
+  PixelFilterType filter = PixelFilterType::Box;  // path: pixel reconstruction filter
+  // path: the environment (not owned; null: black background).
+  const Environment* environment = nullptr;
   TraceMode mode = TraceMode::Packet;  // primary rays only; secondary rays are always single
 };
 
@@ -37,6 +44,9 @@ struct RenderSettings {
 struct RenderStats {
   double seconds = 0.0;
   std::uint64_t rays = 0;  // every ray traced: camera, shadow and secondary
+  int passes = 0;          // full passes over the image (one sample per pixel each)
+  bool stopped = false;    // ended by the stop flag or the time limit before settings.spp
+  std::uint32_t min_spp = 0, max_spp = 0;  // samples the pixels got (differ only when stopped mid-pass)
   std::uint64_t primary_rays = 0;  // camera rays: width * height * spp
   // Thread-seconds spent inside the primary-ray tracing calls only, summed over threads.
   double primary_seconds = 0.0;

@@ -1,15 +1,20 @@
 #include "render/renderer.h"
 
 #include <algorithm>
-#include <array>
 #include <atomic>
 #include <chrono>
 #include <stdexcept>
 #include <string>
+#include <vector>
+
+#include <glm/vec3.hpp>
 
 #include "render/debug_integrators.h"
 #include "render/lights.h"
+#include "render/path.h"
+#include "render/pixel_filter.h"
 #include "render/primary_block.h"
+#include "render/render_control.h"
 #include "render/sampler.h"
 #include "render/tile_scheduler.h"
 #include "render/whitted.h"
@@ -37,60 +42,111 @@ void check_settings(const Scene& scene, const PinholeCamera& camera, const Rende
 }  // namespace
 
 ImageRGB render_image(const Scene& scene, const Accelerator& accel, const PinholeCamera& camera,
-                      const RenderSettings& settings, RenderStats& stats, const ProgressCallback& progress) {
+                      const RenderSettings& settings, RenderStats& stats, const ProgressCallback& progress,
+                      const RenderControl& control) {
   check_settings(scene, camera, settings);
-  const auto start = std::chrono::steady_clock::now();
+  using Clock = std::chrono::steady_clock;
+  const auto start = Clock::now();
+  const bool timed = control.time_limit_s > 0.0;
+  const auto deadline = start + std::chrono::duration_cast<Clock::duration>(
+                                    std::chrono::duration<double>(timed ? control.time_limit_s : 0.0));
 
   const AreaLights area_lights(scene);
   const WhittedIntegrator whitted(scene, accel, area_lights, settings.max_depth, settings.light_samples);
-  ImageRGB image(settings.width, settings.height);
+  // Per pixel: the sum of its samples in double (a long render adds up millions) and how
+  // many there are, so an image stopped mid-pass still averages what each pixel got.
+  const std::size_t pixels = static_cast<std::size_t>(settings.width) * static_cast<std::size_t>(settings.height);
+  std::vector<glm::dvec3> sum(pixels, glm::dvec3(0.0));
+  std::vector<std::uint32_t> count(pixels, 0);
   std::atomic<std::uint64_t> total_rays{0};
   std::atomic<std::uint64_t> total_primary_rays{0};
-  std::atomic<std::chrono::steady_clock::rep> total_primary_ticks{0};  // summed over threads
-  const float inv_spp = 1.0f / static_cast<float>(settings.spp);
+  std::atomic<Clock::rep> total_primary_ticks{0};  // summed over threads
+  std::atomic<bool> halted{false};
 
-  auto shade = [&](const Ray& ray, const Hit& hit, PixelSampler& sampler, std::uint64_t& rays) {
-    return settings.integrator == IntegratorKind::Whitted
-               ? whitted.radiance_from_hit(ray, hit, sampler, rays)
-               : debug_radiance_from_hit(settings.integrator, scene, ray, hit);
+  const PathIntegrator path(scene, accel, area_lights, settings.environment, settings.max_depth);
+  const PixelFilter filter =
+      settings.filter == PixelFilterType::Gaussian ? PixelFilter::gaussian() : PixelFilter::box();
+  const bool is_path = settings.integrator == IntegratorKind::Path;
+  auto shade = [&](PrimaryBlock& primary, int i, std::uint64_t& rays) {
+    const Ray& ray = primary.ray(i);
+    const Hit& hit = primary.hit(i);
+    switch (settings.integrator) {
+      case IntegratorKind::Path: return path.radiance_from_hit(ray, hit, primary.sobol(i), rays);
+      case IntegratorKind::Whitted: return whitted.radiance_from_hit(ray, hit, primary.sampler(i), rays);
+      case IntegratorKind::Ao: return ambient_occlusion(scene, accel, ray, hit, primary.sampler(i), rays);
+      default: return debug_radiance_from_hit(settings.integrator, scene, ray, hit);
+    }
+  };
+  auto must_stop = [&] {
+    if (halted.load(std::memory_order_relaxed)) return true;
+    if ((control.stop && control.stop->load(std::memory_order_relaxed) != 0) || (timed && Clock::now() >= deadline)) {
+      halted.store(true, std::memory_order_relaxed);
+      return true;
+    }
+    return false;
   };
 
+  // One pass: sample `s` of every pixel, block by block, each block's camera rays traced
+  // together (a packet or one by one) and then shaded with each pixel's own sampler.
+  int s = 0;
   auto render_tile = [&](const Tile& tile) {
     std::uint64_t rays = 0;  // per tile, added to the totals once
     std::uint64_t primary_rays = 0;
-    std::chrono::steady_clock::duration primary_time{0};
+    Clock::duration primary_time{0};
     PrimaryBlock primary;
-    std::array<glm::vec3, kBlockPixels> sum;
     for (const PixelBlock& block : make_blocks(tile)) {
+      if (must_stop()) break;
       const int n = block.pixel_count();
-      std::fill_n(sum.begin(), n, glm::vec3(0.0f));
-      // Samples in order 0..spp-1 for every pixel, so each pixel's sum is added up in the
-      // same order as when its samples are traced one ray at a time.
-      for (int s = 0; s < settings.spp; ++s) {
+      if (is_path)
+        primary.generate_path(camera, filter, block, s, settings.seed);
+      else
         primary.generate(camera, block, s, settings.seed);
-        primary_time += primary.trace(accel, settings.mode);
-        primary_rays += static_cast<std::uint64_t>(n);
-        for (int i = 0; i < n; ++i)
-          sum[static_cast<std::size_t>(i)] += shade(primary.ray(i), primary.hit(i), primary.sampler(i), rays);
-      }
+      primary_time += primary.trace(accel, settings.mode);
+      primary_rays += static_cast<std::uint64_t>(n);
       for (int i = 0; i < n; ++i) {
-        const glm::vec3 mean = sum[static_cast<std::size_t>(i)] * inv_spp;
-        image.set(block.x0 + i % block.width(), block.y0 + i / block.width(), mean);
+        const glm::vec3 L = shade(primary, i, rays);
+        const std::size_t p = static_cast<std::size_t>(block.y0 + i / block.width()) * settings.width +
+                              static_cast<std::size_t>(block.x0 + i % block.width());
+        sum[p] += glm::dvec3(L);
+        ++count[p];
       }
     }
     total_rays.fetch_add(rays + primary_rays, std::memory_order_relaxed);
     total_primary_rays.fetch_add(primary_rays, std::memory_order_relaxed);
     total_primary_ticks.fetch_add(primary_time.count(), std::memory_order_relaxed);
   };
+  auto current_image = [&] {
+    ImageRGB image(settings.width, settings.height);
+    for (std::size_t p = 0; p < pixels; ++p) {
+      const glm::vec3 mean = count[p] > 0 ? glm::vec3(sum[p] / static_cast<double>(count[p])) : glm::vec3(0.0f);
+      image.rgb[3 * p] = mean.x, image.rgb[3 * p + 1] = mean.y, image.rgb[3 * p + 2] = mean.z;
+    }
+    return image;
+  };
 
-  for_each_tile(make_tiles(settings.width, settings.height, settings.tile_size), settings.threads, render_tile,
-                progress);
+  const std::vector<Tile> tiles = make_tiles(settings.width, settings.height, settings.tile_size);
+  TileRunner runner(settings.threads);
+  auto last_checkpoint = start;
+  for (s = 0; s < settings.spp && !must_stop(); ++s) {
+    runner.run(tiles, render_tile, progress, tiles.size() * static_cast<std::size_t>(settings.spp));
+    if (halted.load()) break;
+    stats.passes = s + 1;
+    if (control.checkpoint_s > 0.0 && control.on_checkpoint && s + 1 < settings.spp &&
+        std::chrono::duration<double>(Clock::now() - last_checkpoint).count() >= control.checkpoint_s) {
+      control.on_checkpoint(current_image(), s + 1);
+      last_checkpoint = Clock::now();
+    }
+  }
 
+  stats.stopped = halted.load();
+  const auto [lo, hi] = std::minmax_element(count.begin(), count.end());
+  stats.min_spp = *lo;
+  stats.max_spp = *hi;
   stats.rays = total_rays.load();
   stats.primary_rays = total_primary_rays.load();
-  stats.primary_seconds =
-      std::chrono::duration<double>(std::chrono::steady_clock::duration(total_primary_ticks.load())).count();
-  stats.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  stats.primary_seconds = std::chrono::duration<double>(Clock::duration(total_primary_ticks.load())).count();
+  ImageRGB image = current_image();
+  stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return image;
 }
 

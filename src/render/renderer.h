@@ -7,22 +7,28 @@
 #include "accel/accelerator.h"
 #include "render/camera.h"
 #include "render/image.h"
+#include "render/render_control.h"
 #include "render/render_settings.h"
 #include "scene/scene.h"
 
 namespace lancer {
 
-// Called from worker threads after each tile; must be thread-safe on the caller's side.
+// Called from worker threads after each tile of each pass (total = tiles * spp); must be
+// thread-safe on the caller's side.
 using ProgressCallback = std::function<void(std::size_t tiles_done, std::size_t tiles_total)>;
 
 // Renders settings.width x settings.height pixels (the camera must have the same size)
-// with settings.spp jittered samples per pixel, box-filtered. The image depends only on
-// the inputs and settings.seed, never on settings.threads or settings.tile_size.
+// with settings.spp jittered samples per pixel, box-filtered, progressively: pass s adds
+// sample s of every pixel, so the image after k passes is the same as a render with
+// spp = k. The image depends only on the inputs and settings.seed, never on
+// settings.threads or settings.tile_size. `control` may end the render early (stop flag,
+// time limit: the image then averages what each pixel got) and asks for checkpoints.
 // `accel` must have been built over scene.triangles. Throws std::invalid_argument on
 // invalid settings. Fills stats: seconds, rays (every ray traced), primary_rays and
 // primary_seconds. Camera rays are traced in blocks of at most 8x8 pixels inside each tile,
 // as packets or one by one as settings.mode says; the image is the same either way.
 ImageRGB render_image(const Scene& scene, const Accelerator& accel, const PinholeCamera& camera,
-                      const RenderSettings& settings, RenderStats& stats, const ProgressCallback& progress = {});
+                      const RenderSettings& settings, RenderStats& stats, const ProgressCallback& progress = {},
+                      const RenderControl& control = {});
 
 }  // namespace lancer

@@ -8,7 +8,7 @@ namespace lancer {
 
 glm::vec3 base_color_at(const Scene& /*scene*/, const Material& m, std::uint32_t /*prim*/, float /*u*/,
                         float /*v*/) {
-  // TODO(textures): multiply by base_color_texture sampled at the interpolated TEXCOORD.
+  // Untextured on purpose: see surface.h; evaluate_shading() samples the texture.
   return glm::vec3(m.base_color);
 }
 
@@ -20,7 +20,12 @@ SurfacePoint make_surface_point(const Scene& scene, const Ray& ray, const Hit& h
 
   SurfacePoint sp;
   sp.prim = i;
-  sp.p = w * a + hit.u * b + hit.v * c;
+  // In double: any barycentric combination lies on the triangle's plane, so only the
+  // arithmetic can push p off it. In float that error scales with the vertices (a 2 km
+  // floor puts p 1e-4 off the plane, beyond what offset_ray_origin allows for a point
+  // near the origin); in double it is just the final rounding, relative to p itself.
+  const double du = hit.u, dv = hit.v, dw = 1.0 - du - dv;
+  sp.p = glm::vec3(dw * glm::dvec3(a) + du * glm::dvec3(b) + dv * glm::dvec3(c));
 
   // The scene builder drops zero-area triangles, so the cross product is non-zero; a
   // triangle too small for float still gets a usable normal from the direction alone.

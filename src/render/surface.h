@@ -28,8 +28,10 @@ struct SurfacePoint {
 // `hit` must be valid and come from `ray` against `scene.triangles`.
 SurfacePoint make_surface_point(const Scene& scene, const Ray& ray, const Hit& hit);
 
-// Base colour of material `m` at barycentrics (u, v) of triangle `prim`, linear RGB.
-// The one place textures will be sampled; for now it is the material's factor.
+// Base colour of material `m` at barycentrics (u, v) of triangle `prim`, linear RGB:
+// the material's factor only, so the Whitted images stay as they are. Textured
+// shading (every factor times its texture, normal maps) is evaluate_shading() in
+// shading_inputs.h.
 glm::vec3 base_color_at(const Scene& scene, const Material& m, std::uint32_t prim, float u, float v);
 
 }  // namespace lancer

@@ -2,9 +2,12 @@
 // Tiles carry no state between them, so the result cannot depend on their order.
 #pragma once
 
+#include <atomic>
 #include <cstddef>
 #include <functional>
 #include <vector>
+
+#include <tbb/task_arena.h>
 
 namespace lancer {
 
@@ -22,5 +25,19 @@ std::vector<Tile> make_tiles(int width, int height, int tile_size);
 // so far, tiles in total) from the same worker thread. Both callbacks must be thread-safe.
 void for_each_tile(const std::vector<Tile>& tiles, int threads, const std::function<void(const Tile&)>& render_tile,
                    const std::function<void(std::size_t, std::size_t)>& on_done);
+
+// for_each_tile with one task arena kept across calls (a progressive render runs one pass
+// over the tiles per sample). on_done's counts run on from call to call; `total` is what
+// it reports as the whole.
+class TileRunner {
+ public:
+  explicit TileRunner(int threads);
+  void run(const std::vector<Tile>& tiles, const std::function<void(const Tile&)>& render_tile,
+           const std::function<void(std::size_t, std::size_t)>& on_done, std::size_t total);
+
+ private:
+  tbb::task_arena arena_;
+  std::atomic<std::size_t> done_{0};
+};
 
 }  // namespace lancer

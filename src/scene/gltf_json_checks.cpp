@@ -337,7 +337,7 @@ void check_gltf_json(const std::string& file, std::string_view json_text) {
   check_document(checker, doc);
 }
 
-std::string_view glb_json_chunk(const std::string& file, const std::vector<unsigned char>& bytes) {
+std::string_view glb_json_chunk(const std::string& file, std::span<const unsigned char> bytes) {
   // Layout (glTF 2.0 spec, "GLB File Format Specification"): a 12-byte header (magic
   // "glTF", version 2, total length), then chunks of (length, type, data); the first
   // chunk is JSON (type 0x4E4F534A), an optional second one BIN.

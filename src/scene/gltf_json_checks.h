@@ -4,10 +4,9 @@
 // wrong scene, so they are refused here with the JSON path of the culprit.
 #pragma once
 
-#include <optional>
+#include <span>
 #include <string>
 #include <string_view>
-#include <vector>
 
 namespace lancer::gltf {
 
@@ -22,6 +21,6 @@ void check_gltf_json(const std::string& file, std::string_view json_text);
 
 // The JSON chunk of a binary glTF (.glb) held in `bytes`. Throws SceneError with a
 // telling reason ("truncated", "bad magic", ...) when the container is malformed.
-std::string_view glb_json_chunk(const std::string& file, const std::vector<unsigned char>& bytes);
+std::string_view glb_json_chunk(const std::string& file, std::span<const unsigned char> bytes);
 
 }  // namespace lancer::gltf

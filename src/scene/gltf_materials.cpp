@@ -1,33 +1,26 @@
 #include "scene/gltf_materials.h"
 
-#include <stb_image.h>
 #include <tiny_gltf.h>
 
-#include <climits>
-#include <cstring>
-
+#include "scene/gltf_texture_refs.h"
+#include "scene/image_decode.h"
 #include "scene/scene_error.h"
 
 namespace lancer::gltf {
 
 namespace {
 
-// Images larger than this many pixels are refused before decoding (a corrupt header
-// could otherwise ask stb for gigabytes).
-constexpr long long kMaxImagePixels = 1ll << 28;
-
 std::string material_name(int index) { return "material " + std::to_string(index); }
 
-TextureRef texture_ref(const ModelRef& m, int texture, int texcoord, double scale, const std::string& what) {
-  TextureRef ref;
-  if (texture < 0) return ref;  // absent
-  if (std::size_t(texture) >= m.model.textures.size())
-    throw SceneError(m.file, what + ": texture index " + std::to_string(texture) + " out of range (the file has " +
-                                 std::to_string(m.model.textures.size()) + " textures)");
-  ref.texture = texture;
-  ref.texcoord = texcoord;
-  ref.scale = float(scale);
-  return ref;
+// The KHR_texture_transform value in a core textureInfo's extensions, or null.
+const tinygltf::Value* texture_transform(const tinygltf::ExtensionMap& extensions) {
+  const auto it = extensions.find("KHR_texture_transform");
+  return it == extensions.end() ? nullptr : &it->second;
+}
+
+template <typename Info>
+TextureRef core_texture_ref(const ModelRef& m, const Info& info, double scale, const std::string& what) {
+  return texture_ref(m, info.index, info.texCoord, scale, texture_transform(info.extensions), what);
 }
 
 // The number ext[key] of a material extension object, or `fallback` when absent.
@@ -60,6 +53,17 @@ const tinygltf::Value* extension_object(const ModelRef& m, const tinygltf::Mater
   return &it->second;
 }
 
+// KHR_materials_volume. The extension requires thicknessFactor >= 0 and
+// attenuationDistance > 0; its default distance, infinity, means no attenuation.
+void read_volume(const ModelRef& m, const tinygltf::Value& ext, const std::string& path, Material& out) {
+  out.thickness = extension_number(m, ext, "thicknessFactor", 0.0f, path);
+  if (!(out.thickness >= 0.0f)) throw SceneError(m.file, path + ".thicknessFactor must not be negative");
+  out.thickness_texture = extension_texture_ref(m, ext, "thicknessTexture", path);
+  out.attenuation_distance = extension_number(m, ext, "attenuationDistance", out.attenuation_distance, path);
+  if (!(out.attenuation_distance > 0.0f)) throw SceneError(m.file, path + ".attenuationDistance must be positive");
+  out.attenuation_color = extension_vec3(m, ext, "attenuationColor", glm::vec3(1.0f), path);
+}
+
 AlphaMode alpha_mode(const ModelRef& m, const std::string& mode, const std::string& what) {
   if (mode == "OPAQUE") return AlphaMode::Opaque;
   if (mode == "MASK") return AlphaMode::Mask;
@@ -77,20 +81,16 @@ Material convert_material(const ModelRef& m, int index) {
     throw SceneError(m.file, what + ": baseColorFactor must have 4 numbers and emissiveFactor 3");
   out.base_color =
       glm::vec4(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2], pbr.baseColorFactor[3]);
-  out.base_color_texture =
-      texture_ref(m, pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, 1.0, what + " baseColorTexture");
+  out.base_color_texture = core_texture_ref(m, pbr.baseColorTexture, 1.0, what + " baseColorTexture");
   out.metallic = float(pbr.metallicFactor);
   out.roughness = float(pbr.roughnessFactor);
   out.metallic_roughness_texture =
-      texture_ref(m, pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord, 1.0,
-                  what + " metallicRoughnessTexture");
+      core_texture_ref(m, pbr.metallicRoughnessTexture, 1.0, what + " metallicRoughnessTexture");
   out.emissive_factor = glm::vec3(g.emissiveFactor[0], g.emissiveFactor[1], g.emissiveFactor[2]);
-  out.emissive_texture =
-      texture_ref(m, g.emissiveTexture.index, g.emissiveTexture.texCoord, 1.0, what + " emissiveTexture");
-  out.normal_texture =
-      texture_ref(m, g.normalTexture.index, g.normalTexture.texCoord, g.normalTexture.scale, what + " normalTexture");
-  out.occlusion_texture = texture_ref(m, g.occlusionTexture.index, g.occlusionTexture.texCoord,
-                                      g.occlusionTexture.strength, what + " occlusionTexture");
+  out.emissive_texture = core_texture_ref(m, g.emissiveTexture, 1.0, what + " emissiveTexture");
+  out.normal_texture = core_texture_ref(m, g.normalTexture, g.normalTexture.scale, what + " normalTexture");
+  out.occlusion_texture =
+      core_texture_ref(m, g.occlusionTexture, g.occlusionTexture.strength, what + " occlusionTexture");
   out.alpha_mode = alpha_mode(m, g.alphaMode, what);
   out.alpha_cutoff = float(g.alphaCutoff);
   out.double_sided = g.doubleSided;
@@ -101,14 +101,20 @@ Material convert_material(const ModelRef& m, int index) {
         extension_number(m, *ext, "emissiveStrength", 1.0f, json_path + ".extensions.KHR_materials_emissive_strength");
   if (const auto* ext = extension_object(m, g, "KHR_materials_ior", json_path))
     out.ior = extension_number(m, *ext, "ior", 1.5f, json_path + ".extensions.KHR_materials_ior");
-  if (const auto* ext = extension_object(m, g, "KHR_materials_transmission", json_path))
-    out.transmission =
-        extension_number(m, *ext, "transmissionFactor", 0.0f, json_path + ".extensions.KHR_materials_transmission");
+  if (const auto* ext = extension_object(m, g, "KHR_materials_transmission", json_path)) {
+    const std::string ext_path = json_path + ".extensions.KHR_materials_transmission";
+    out.transmission = extension_number(m, *ext, "transmissionFactor", 0.0f, ext_path);
+    out.transmission_texture = extension_texture_ref(m, *ext, "transmissionTexture", ext_path);
+  }
   if (const auto* ext = extension_object(m, g, "KHR_materials_specular", json_path)) {
     const std::string ext_path = json_path + ".extensions.KHR_materials_specular";
     out.specular = extension_number(m, *ext, "specularFactor", 1.0f, ext_path);
     out.specular_color = extension_vec3(m, *ext, "specularColorFactor", glm::vec3(1.0f), ext_path);
+    out.specular_texture = extension_texture_ref(m, *ext, "specularTexture", ext_path);
+    out.specular_color_texture = extension_texture_ref(m, *ext, "specularColorTexture", ext_path);
   }
+  if (const auto* ext = extension_object(m, g, "KHR_materials_volume", json_path))
+    read_volume(m, *ext, json_path + ".extensions.KHR_materials_volume", out);
   return out;
 }
 
@@ -122,27 +128,29 @@ ByteSpan encoded_image(const ModelRef& m, int index, const std::string& what) {
   return {img.image.data(), img.image.size()};
 }
 
-Image decode_image(const ModelRef& m, int index) {
+Image decode_gltf_image(const ModelRef& m, int index) {
   const tinygltf::Image& src = m.model.images[std::size_t(index)];
   const std::string what = "image " + std::to_string(index);
   const ByteSpan bytes = encoded_image(m, index, what);
-  if (bytes.size > std::size_t(INT_MAX)) throw SceneError(m.file, what + " is too large to decode (over 2 GiB)");
-  const int length = int(bytes.size);
-  int width = 0, height = 0, channels = 0;
-  if (!stbi_info_from_memory(bytes.data, length, &width, &height, &channels))
-    throw SceneError(m.file, what + " cannot be decoded: " + std::string(stbi_failure_reason()));
-  if (width <= 0 || height <= 0 || (long long)width * height > kMaxImagePixels)
-    throw SceneError(m.file, what + " has unsupported size " + std::to_string(width) + "x" + std::to_string(height));
-  stbi_uc* pixels = stbi_load_from_memory(bytes.data, length, &width, &height, &channels, 0);
-  if (!pixels) throw SceneError(m.file, what + " cannot be decoded: " + std::string(stbi_failure_reason()));
-  Image out;
-  out.name = !src.uri.empty() ? src.uri : !src.name.empty() ? src.name : what + " (embedded)";
-  out.width = width;
-  out.height = height;
-  out.channels = channels;
-  out.pixels.assign(pixels, pixels + std::size_t(width) * std::size_t(height) * std::size_t(channels));
-  stbi_image_free(pixels);
-  return out;
+  std::string name = !src.uri.empty() ? src.uri : !src.name.empty() ? src.name : what + " (embedded)";
+  return decode_image({bytes.data, bytes.size}, std::move(name), m.file, what);
+}
+
+bool wrap_mode(int v) { return v == 10497 || v == 33071 || v == 33648; }
+bool mag_filter(int v) { return v == -1 || v == 9728 || v == 9729; }
+bool min_filter(int v) { return mag_filter(v) || (v >= 9984 && v <= 9987); }
+
+// The sampler enums the texture lookup understands (glTF 2.0 spec, "Samplers"); -1 is
+// tinygltf's "not given" for the filters.
+void check_sampler(const ModelRef& m, const tinygltf::Sampler& s, int index) {
+  const std::string what = "sampler " + std::to_string(index);
+  auto fail = [&](const char* key, int value, const char* allowed) {
+    throw SceneError(m.file, what + ": " + key + " " + std::to_string(value) + " is not one of " + allowed);
+  };
+  if (!wrap_mode(s.wrapS)) fail("wrapS", s.wrapS, "10497, 33071, 33648");
+  if (!wrap_mode(s.wrapT)) fail("wrapT", s.wrapT, "10497, 33071, 33648");
+  if (!mag_filter(s.magFilter)) fail("magFilter", s.magFilter, "9728, 9729");
+  if (!min_filter(s.minFilter)) fail("minFilter", s.minFilter, "9728, 9729, 9984-9987");
 }
 
 }  // namespace
@@ -152,7 +160,7 @@ void read_materials(const ModelRef& m, Scene& scene) {
 }
 
 void read_textures_and_images(const ModelRef& m, Scene& scene) {
-  for (std::size_t i = 0; i < m.model.images.size(); ++i) scene.images.push_back(decode_image(m, int(i)));
+  for (std::size_t i = 0; i < m.model.images.size(); ++i) scene.images.push_back(decode_gltf_image(m, int(i)));
   for (std::size_t i = 0; i < m.model.textures.size(); ++i) {
     const tinygltf::Texture& t = m.model.textures[i];
     const std::string what = "texture " + std::to_string(i);
@@ -166,6 +174,7 @@ void read_textures_and_images(const ModelRef& m, Scene& scene) {
                                    std::to_string(m.model.samplers.size()) + " samplers)");
     if (t.sampler >= 0) {
       const tinygltf::Sampler& s = m.model.samplers[std::size_t(t.sampler)];
+      check_sampler(m, s, t.sampler);
       out.wrap_s = s.wrapS;
       out.wrap_t = s.wrapT;
       out.mag_filter = s.magFilter;

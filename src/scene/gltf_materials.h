@@ -8,13 +8,15 @@ namespace lancer::gltf {
 
 // Appends one lancer::Material per glTF material, in file order (so glTF material i
 // is scene material i), reading the pbrMetallicRoughness model and the extensions
-// KHR_materials_emissive_strength, _ior, _transmission and _specular. Throws
+// KHR_materials_emissive_strength, _ior, _transmission, _specular and _volume (with
+// their textures), and KHR_texture_transform on every texture reference. Throws
 // SceneError on an unknown alphaMode, a texture index out of range or an extension
-// property of the wrong type.
+// property of the wrong type or out of its range.
 void read_materials(const ModelRef& m, Scene& scene);
 
 // Appends the textures (with their samplers) and the decoded 8-bit images. Throws
-// SceneError when an image cannot be read or decoded, or an index is out of range.
+// SceneError when an image cannot be read, is truncated or cannot be decoded, an index
+// is out of range, or a sampler has an unknown wrap or filter enum.
 void read_textures_and_images(const ModelRef& m, Scene& scene);
 
 }  // namespace lancer::gltf

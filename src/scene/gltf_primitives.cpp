@@ -20,6 +20,7 @@ struct WorldVertices {
   std::vector<glm::vec3> positions;
   std::vector<glm::vec3> normals;    // empty: the primitive has no NORMAL
   std::vector<glm::vec2> texcoords;  // empty: no TEXCOORD_0
+  std::vector<glm::vec2> texcoords1; // empty: no TEXCOORD_1, or the material does not use it
   std::vector<glm::vec4> tangents;   // empty: no TANGENT (or no NORMAL, see below)
 };
 
@@ -38,8 +39,9 @@ int attribute(const tinygltf::Primitive& p, const char* name) {
 //    mirror turns the frame's handedness.
 // glTF 2.0 spec, "Meshes": when NORMAL is absent, flat normals are used and TANGENT
 // must be ignored.
+// TEXCOORD_1 is read only when `want_texcoords1` (the material samples set 1).
 WorldVertices world_vertices(const ModelRef& m, const tinygltf::Primitive& prim, const glm::dmat4& world,
-                             const std::string& what) {
+                             bool want_texcoords1, const std::string& what) {
   WorldVertices v;
   const int position = attribute(prim, "POSITION");
   if (position < 0) throw SceneError(m.file, what + " has no POSITION attribute");
@@ -57,6 +59,10 @@ WorldVertices world_vertices(const ModelRef& m, const tinygltf::Primitive& prim,
   if (const int a = attribute(prim, "TEXCOORD_0"); a >= 0) {
     v.texcoords = read_texcoords(m, a, what + " TEXCOORD_0");
     check_count(v.texcoords.size(), "TEXCOORD_0");
+  }
+  if (const int a = attribute(prim, "TEXCOORD_1"); a >= 0 && want_texcoords1) {
+    v.texcoords1 = read_texcoords(m, a, what + " TEXCOORD_1");
+    check_count(v.texcoords1.size(), "TEXCOORD_1");
   }
   if (const int a = attribute(prim, "TANGENT"); a >= 0 && !v.normals.empty()) {
     v.tangents = read_vec4_floats(m, a, what + " TANGENT");
@@ -155,7 +161,13 @@ void PrimitiveEmitter::emit_primitive(int mesh, int primitive, const glm::dmat4&
     throw SceneError(m_.file, what + ": unknown primitive mode " + std::to_string(mode));
   const std::uint32_t material = material_id(prim.material, what);
 
-  const WorldVertices v = world_vertices(m_, prim, world, what);
+  const bool wants_texcoords1 = scene_.materials[material].uses_texcoord(1);
+  const WorldVertices v = world_vertices(m_, prim, world, wants_texcoords1, what);
+  if (wants_texcoords1 && v.texcoords1.empty() && !warned_missing_texcoords1_) {
+    // GPU viewers read a missing attribute as 0; so does Lancer (kHasTexcoords1 unset).
+    std::cerr << m_.file << ": warning: " << what << ": its material uses TEXCOORD_1 but the primitive has none\n";
+    warned_missing_texcoords1_ = true;
+  }
   const std::vector<std::uint32_t> numbers = vertex_numbers(m_, prim, v.positions.size(), what);
   const std::size_t n = numbers.size();
   std::size_t triangles = 0;
@@ -176,19 +188,21 @@ void PrimitiveEmitter::emit_primitive(int mesh, int primitive, const glm::dmat4&
     std::array<std::size_t, 3> c = triangle_corners(mode, t);
     if (mirrored) std::swap(c[1], c[2]);
     glm::vec3 p[3], nrm[3];
-    glm::vec2 uv[3];
+    glm::vec2 uv[3], uv1[3];
     glm::vec4 tan[3];
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t vtx = numbers[c[std::size_t(k)]];
       p[k] = v.positions[vtx];
       if (!v.normals.empty()) nrm[k] = v.normals[vtx];
       if (!v.texcoords.empty()) uv[k] = v.texcoords[vtx];
+      if (!v.texcoords1.empty()) uv1[k] = v.texcoords1[vtx];
       if (!v.tangents.empty()) tan[k] = v.tangents[vtx];
     }
     CornerAttributes attribs;
     if (!v.normals.empty()) attribs.normals = nrm;
     if (!v.texcoords.empty()) attribs.texcoords = uv;
     if (!v.tangents.empty()) attribs.tangents = tan;
+    if (!v.texcoords1.empty()) attribs.texcoords1 = uv1;
     if (next_source_id_ == UINT32_MAX) throw SceneError(m_.file, "too many triangles: source ids are 32-bit");
     builder_.add_triangle(p, material, next_source_id_++, attribs);
   }

@@ -35,6 +35,7 @@ class PrimitiveEmitter {
   std::uint32_t next_source_id_ = 0;
   std::optional<std::uint32_t> default_material_;
   bool warned_non_triangles_ = false;
+  bool warned_missing_texcoords1_ = false;
 };
 
 }  // namespace lancer::gltf

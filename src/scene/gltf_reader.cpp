@@ -14,7 +14,10 @@
 #include <glm/geometric.hpp>
 #include <iostream>
 #include <iterator>
+#include <limits>
 #include <numbers>
+#include <optional>
+#include <span>
 #include <system_error>
 
 #include "scene/gltf_json_checks.h"
@@ -38,9 +41,6 @@ std::vector<unsigned char> read_whole_file(const std::filesystem::path& path, co
   if (!in) throw SceneError(file, "cannot open file for reading");
   std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   if (in.bad()) throw SceneError(file, "read error");
-  if (bytes.empty()) throw SceneError(file, "empty file");
-  // tinygltf takes the length as unsigned int.
-  if (bytes.size() > std::size_t(UINT_MAX)) throw SceneError(file, "file too large (over 4 GiB)");
   return bytes;
 }
 
@@ -67,8 +67,33 @@ bool keep_encoded_image(tinygltf::Image* image, const int /*index*/, std::string
   return true;
 }
 
-tinygltf::Model load_model(const std::filesystem::path& path, const std::string& file) {
-  const std::vector<unsigned char> bytes = read_whole_file(path, file);
+// tinygltf's own file callbacks open whatever a URI names: a directory then reads as a
+// file of 2^63 bytes (std::bad_alloc) and a FIFO blocks fopen forever. External buffers
+// and images must be regular files.
+bool regular_file_exists(const std::string& path, void* /*user*/) {
+  std::error_code ec;
+  return std::filesystem::is_regular_file(path, ec);
+}
+
+bool read_regular_file(std::vector<unsigned char>* out, std::string* err, const std::string& path, void* /*user*/) {
+  auto fail = [&](const std::string& why) {
+    if (err) *err += why + ": " + path + "\n";
+    return false;
+  };
+  if (!regular_file_exists(path, nullptr)) return fail("not a regular file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return fail("cannot open file for reading");
+  out->assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  if (in.bad()) return fail("read error");
+  if (out->empty()) return fail("empty file");
+  return true;
+}
+
+tinygltf::Model load_model(std::span<const unsigned char> bytes, const std::filesystem::path& path,
+                           const std::string& file) {
+  if (bytes.empty()) throw SceneError(file, "empty file");
+  // tinygltf takes the length as unsigned int.
+  if (bytes.size() > std::size_t(UINT_MAX)) throw SceneError(file, "file too large (over 4 GiB)");
   // Binary when the magic says so; a .glb must be binary.
   const bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
   if (lower_extension(path) == ".glb" && !binary)
@@ -81,6 +106,8 @@ tinygltf::Model load_model(const std::filesystem::path& path, const std::string&
 
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(keep_encoded_image, nullptr);
+  loader.SetFsCallbacks({&regular_file_exists, &tinygltf::ExpandFilePath, &read_regular_file, &tinygltf::WriteWholeFile,
+                         nullptr});
   tinygltf::Model model;
   std::string err, warn;
   const std::string base_dir = path.parent_path().string();
@@ -98,6 +125,19 @@ tinygltf::Model load_model(const std::filesystem::path& path, const std::string&
   if (!ok || !err.empty())
     throw SceneError(file, "invalid glTF: " + (err.empty() ? std::string("tinygltf refused the file") : trimmed(err)));
   return model;
+}
+
+// Lancer's thin-lens convention in a camera's extras (scene.h, CameraDesc): a number
+// `key`, finite and >= 0 (> 0 unless zero_ok). Absent or non-object extras: nothing.
+std::optional<float> camera_extra(const ModelRef& m, const tinygltf::Value& extras, const char* key,
+                                  const std::string& what, bool zero_ok) {
+  if (!extras.IsObject() || !extras.Has(key)) return std::nullopt;
+  const tinygltf::Value& v = extras.Get(key);
+  const double x = v.IsNumber() ? v.GetNumberAsDouble() : std::nan("");
+  if (!std::isfinite(x) || x < 0.0 || (x == 0.0 && !zero_ok) || x > double(std::numeric_limits<float>::max()))
+    throw SceneError(m.file, what + ": extras." + key + " must be a " + (zero_ok ? "non-negative" : "positive") +
+                                 " number (scene units)");
+  return float(x);
 }
 
 void add_camera(const ModelRef& m, int node, int camera, const glm::dmat4& world, Scene& scene) {
@@ -121,6 +161,8 @@ void add_camera(const ModelRef& m, int node, int camera, const glm::dmat4& world
   desc.camera_to_world = glm::mat4(world);
   desc.yfov = float(yfov);
   if (aspect > 0.0) desc.aspect_ratio = float(aspect);
+  desc.aperture_radius = camera_extra(m, c.extras, "aperture", what, true);
+  desc.focus_distance = camera_extra(m, c.extras, "focusDistance", what, false);
   scene.cameras.push_back(desc);
 }
 
@@ -175,8 +217,12 @@ void add_light(const ModelRef& m, int node, const glm::dmat4& world, Scene& scen
 }  // namespace
 
 Scene read_gltf(const std::filesystem::path& path) {
+  return read_gltf_bytes(read_whole_file(path, path.string()), path);
+}
+
+Scene read_gltf_bytes(std::span<const unsigned char> bytes, const std::filesystem::path& path) {
   const std::string file = path.string();
-  const tinygltf::Model model = load_model(path, file);
+  const tinygltf::Model model = load_model(bytes, path, file);
   const ModelRef m{model, file};
 
   Scene scene;

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <span>
 
 #include "scene/scene.h"
 
@@ -9,5 +10,10 @@ namespace lancer {
 
 // Throws SceneError on anything malformed. May return a scene with no triangles.
 Scene read_gltf(const std::filesystem::path& path);
+
+// The same for a file's bytes already in memory (the fuzz target uses it). `path` is
+// only named in messages, gives the folder external buffers and images resolve
+// against, and by its extension says whether the bytes must be a binary glTF.
+Scene read_gltf_bytes(std::span<const unsigned char> bytes, const std::filesystem::path& path);
 
 }  // namespace lancer

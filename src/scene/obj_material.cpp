@@ -1,12 +1,17 @@
 #include "scene/obj_material.h"
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
+#include <cstdint>
+#include <fstream>
+#include <iterator>
 #include <system_error>
+#include <vector>
 
 #include <glm/common.hpp>
-#include <stb_image.h>
 
+#include "scene/image_decode.h"
 #include "scene/scene_error.h"
 
 namespace lancer::obj_detail {
@@ -17,7 +22,6 @@ namespace fs = std::filesystem;
 
 constexpr int kRepeat = 10497;       // glTF sampler wrap modes
 constexpr int kClampToEdge = 33071;
-constexpr long long kMaxTexturePixels = 1ll << 28;  // refuse absurd headers before decoding
 
 glm::vec3 to_vec3(const tinyobj::real_t v[3]) { return {v[0], v[1], v[2]}; }
 float max_component(const glm::vec3& v) { return std::max({v.x, v.y, v.z}); }
@@ -176,22 +180,16 @@ int ObjTextureLoader::load_image(const fs::path& path, const std::string& texnam
   };
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) fail("does not exist or is not a file");
-  int width = 0, height = 0, channels = 0;
-  if (!stbi_info(path.c_str(), &width, &height, &channels))
-    fail(std::string("cannot be decoded: ") + stbi_failure_reason());
-  if (width <= 0 || height <= 0 || static_cast<long long>(width) * height > kMaxTexturePixels)
-    fail("has unsupported dimensions " + std::to_string(width) + "x" + std::to_string(height));
-  stbi_uc* pixels = stbi_load(path.c_str(), &width, &height, &channels, 0);
-  if (!pixels) fail(std::string("cannot be decoded: ") + stbi_failure_reason());
-
-  Image image;
-  image.name = path.string();
-  image.width = width;
-  image.height = height;
-  image.channels = channels;
-  image.pixels.assign(pixels, pixels + static_cast<std::size_t>(width) * height * channels);
-  stbi_image_free(pixels);
-  scene_.images.push_back(std::move(image));
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (ec) fail("could not be read (" + ec.message() + ")");
+  if (size > std::uintmax_t(INT_MAX)) fail("is too large to decode (over 2 GiB)");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail("cannot be opened for reading");
+  const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) fail("could not be read");
+  scene_.images.push_back(decode_image(bytes, path.string(), obj_file_,
+                                       "material '" + material_name + "': texture '" + texname + "' (" +
+                                           path.string() + ")"));
   const int index = static_cast<int>(scene_.images.size() - 1);
   image_by_path_.emplace(key, index);
   return index;

@@ -4,10 +4,13 @@
 #pragma once
 
 #include <cstdint>
+#include <initializer_list>
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
 
+#include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
@@ -23,8 +26,11 @@ enum class AlphaMode { Opaque, Mask, Blend };
 // and occlusion textures, the scale/strength.
 struct TextureRef {
   int texture = -1;
-  int texcoord = 0;
+  int texcoord = 0;  // 0 or 1 (TEXCOORD_0 / TEXCOORD_1); KHR_texture_transform may override it
   float scale = 1.0f;
+  // KHR_texture_transform: uv' = (transform * vec3(uv, 1)).xy, the extension's
+  // offset * rotation * scale; the identity when the extension is absent.
+  glm::mat3 transform{1.0f};
   bool present() const { return texture >= 0; }
 };
 
@@ -49,10 +55,29 @@ struct Material {
   float transmission = 0.0f;        // KHR_materials_transmission
   float specular = 1.0f;            // KHR_materials_specular
   glm::vec3 specular_color{1.0f};
+  TextureRef transmission_texture;    // KHR_materials_transmission: factor in R
+  TextureRef specular_texture;        // KHR_materials_specular: factor in A (linear)
+  TextureRef specular_color_texture;  // KHR_materials_specular: colour in RGB (sRGB)
+  // KHR_materials_volume: thickness in the mesh's own units (thickness texture in G),
+  // and the distance light travels in the medium before it is attenuated to
+  // attenuation_color (infinity: no attenuation).
+  float thickness = 0.0f;
+  TextureRef thickness_texture;
+  float attenuation_distance = std::numeric_limits<float>::infinity();
+  glm::vec3 attenuation_color{1.0f};
 
   // Emitted radiance (W / (sr m^2)): glTF's emissive factor times strength, nothing else.
   glm::vec3 emission() const { return emissive_factor * emissive_strength; }
   bool emissive() const { return emission() != glm::vec3(0.0f); }
+
+  // Whether any of the material's textures reads texture coordinate set `set`.
+  bool uses_texcoord(int set) const {
+    for (const TextureRef* t : {&base_color_texture, &metallic_roughness_texture, &emissive_texture, &normal_texture,
+                                &occlusion_texture, &transmission_texture, &specular_texture, &specular_color_texture,
+                                &thickness_texture})
+      if (t->present() && t->texcoord == set) return true;
+    return false;
+  }
 };
 
 // glTF sampler enums kept as numbers (10497 repeat, 33071 clamp, 33648 mirrored repeat).
@@ -78,6 +103,11 @@ struct CameraDesc {
   glm::mat4 camera_to_world{1.0f};  // camera looks down -z, +y up (glTF convention)
   float yfov = 0.8f;                // radians
   std::optional<float> aspect_ratio;
+  // A thin lens, from the glTF camera's extras {"aperture": r, "focusDistance": d} (a
+  // Lancer convention; glTF itself has no lens): lens radius r >= 0 and distance d > 0 to
+  // the plane in focus, both in scene units. No focus distance: focused at infinity.
+  std::optional<float> aperture_radius;
+  std::optional<float> focus_distance;
 };
 
 enum class LightType { Point, Spot, Directional };
@@ -104,7 +134,7 @@ struct LoadStats {
 };
 
 // Per-triangle flags saying which per-corner attributes are real.
-enum TriangleAttrib : std::uint8_t { kHasNormals = 1, kHasTexcoords = 2, kHasTangents = 4 };
+enum TriangleAttrib : std::uint8_t { kHasNormals = 1, kHasTexcoords = 2, kHasTangents = 4, kHasTexcoords1 = 8 };
 
 struct Scene {
   std::string source;  // file it came from, or the procedural scene's name
@@ -117,6 +147,9 @@ struct Scene {
   std::vector<glm::vec3> normals;                 // per corner, world space, unit length
   std::vector<glm::vec2> texcoords;               // per corner, TEXCOORD_0
   std::vector<glm::vec4> tangents;                // per corner, xyz world space, w handedness
+  // Per corner, TEXCOORD_1; empty when no triangle has one (readers fill it only for
+  // materials that use texcoord set 1), else as long as `texcoords`.
+  std::vector<glm::vec2> texcoords1;
 
   std::vector<Material> materials;  // never empty once loaded: a default material is added
   std::vector<Texture> textures;

@@ -55,6 +55,14 @@ bool SceneBuilder::add_triangle(const glm::vec3 p[3], std::uint32_t material, st
   }
   if (attribs.texcoords) flags |= kHasTexcoords;
   if (attribs.tangents) flags |= kHasTangents;
+  // texcoords1 stays empty until a triangle has TEXCOORD_1; the earlier corners then
+  // get zeros so the array lines up with the others.
+  if (attribs.texcoords1 || !scene_.texcoords1.empty()) {
+    scene_.texcoords1.resize(scene_.texcoords.size() - 3);  // a no-op once it is in use
+    for (int k = 0; k < 3; ++k)
+      scene_.texcoords1.push_back(attribs.texcoords1 ? attribs.texcoords1[k] : glm::vec2(0.0f));
+  }
+  if (attribs.texcoords1) flags |= kHasTexcoords1;
   scene_.attrib_flags.push_back(flags);
   return true;
 }

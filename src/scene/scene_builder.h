@@ -14,6 +14,7 @@ struct CornerAttributes {
   const glm::vec3* normals = nullptr;    // 3 entries or null
   const glm::vec2* texcoords = nullptr;  // 3 entries or null
   const glm::vec4* tangents = nullptr;   // 3 entries or null
+  const glm::vec2* texcoords1 = nullptr; // 3 entries or null (TEXCOORD_1)
 };
 
 class SceneBuilder {

@@ -231,17 +231,18 @@ ImageRGB pixel_by_pixel(const Accelerator& accel, const RenderSettings& s, std::
   ImageRGB image(s.width, s.height);
   for (int y = 0; y < s.height; ++y) {
     for (int x = 0; x < s.width; ++x) {
-      glm::vec3 sum(0.0f);
+      glm::dvec3 sum(0.0);  // the renderer adds up samples in double, in sample order
       for (int i = 0; i < s.spp; ++i) {
         PixelSampler sampler(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y),
                              static_cast<std::uint32_t>(i), s.seed);
         const float u = sampler.next();
         const float v = sampler.next();
         const Ray ray = cam.generate(static_cast<float>(x) + u, static_cast<float>(y) + v);
-        sum += s.integrator == IntegratorKind::Whitted ? whitted.radiance(ray, sampler, rays)
-                                                       : debug_radiance(s.integrator, scene, accel, ray, rays);
+        sum += glm::dvec3(s.integrator == IntegratorKind::Whitted
+                              ? whitted.radiance(ray, sampler, rays)
+                              : debug_radiance(s.integrator, scene, accel, ray, rays));
       }
-      image.set(x, y, sum * (1.0f / static_cast<float>(s.spp)));
+      image.set(x, y, glm::vec3(sum / static_cast<double>(s.spp)));
     }
   }
   return image;

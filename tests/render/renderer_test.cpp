@@ -39,11 +39,12 @@ RenderSettings small_settings(int w, int h) {
 }
 
 TEST(RenderSettings, IntegratorNamesRoundTrip) {
-  for (IntegratorKind k : {IntegratorKind::Whitted, IntegratorKind::Normals, IntegratorKind::Depth,
-                           IntegratorKind::PrimId})
+  for (IntegratorKind k : {IntegratorKind::Path, IntegratorKind::Whitted, IntegratorKind::Normals,
+                           IntegratorKind::Albedo, IntegratorKind::Depth, IntegratorKind::Ao, IntegratorKind::PrimId})
     EXPECT_EQ(parse_integrator(integrator_name(k)), k);
   EXPECT_EQ(integrator_name(IntegratorKind::PrimId), "primid");
-  EXPECT_FALSE(parse_integrator("path").has_value());
+  EXPECT_EQ(integrator_name(IntegratorKind::Path), "path");
+  EXPECT_FALSE(parse_integrator("bidirectional").has_value());
   EXPECT_FALSE(parse_integrator("").has_value());
   EXPECT_FALSE(parse_integrator("Whitted").has_value());
 }
@@ -103,7 +104,7 @@ TEST(Tiles, OneThreadMeansNoConcurrency) {
   EXPECT_EQ(calls.load(), tiles.size());
 }
 
-TEST(Renderer, ProgressAfterEveryTile) {
+TEST(Renderer, ProgressAfterEveryTileOfEveryPass) {
   const Scene scene = lit_floor();
   const BruteForce accel(scene.triangles);
   const PinholeCamera cam = PinholeCamera::look_at({0, 0, 3}, {0, 0, 0}, {0, 1, 0}, 0.8f, 40, 24);
@@ -119,9 +120,13 @@ TEST(Renderer, ProgressAfterEveryTile) {
     done.push_back(d);
     total = t;
   });
-  EXPECT_EQ(total, 6u);  // 3 x 2 tiles
+  // One report per tile of each pass (one pass per sample): 3 x 2 tiles, spp passes.
+  const std::size_t expected = 6u * static_cast<std::size_t>(s.spp);
+  EXPECT_EQ(total, expected);
   std::sort(done.begin(), done.end());
-  EXPECT_EQ(done, (std::vector<std::size_t>{1, 2, 3, 4, 5, 6}));
+  std::vector<std::size_t> all(expected);
+  for (std::size_t i = 0; i < expected; ++i) all[i] = i + 1;
+  EXPECT_EQ(done, all);
 }
 
 TEST(Renderer, CountsEveryRayAndTime) {

@@ -1,0 +1,275 @@
+#include "render/bsdf.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include <glm/common.hpp>
+#include <glm/geometric.hpp>
+
+namespace lancer {
+namespace {
+
+constexpr float kInvPi = std::numbers::inv_pi_v<float>;
+// |eta - 1| below this refracts as a delta lobe: the transmitted lobe is then at most
+// alpha * 1e-3 radians wide, and the generalised half vector wo + eta wi loses its precision.
+constexpr float kIndexMatched = 1e-3f;
+// Smallest selection weight of a non-delta lobe that exists. The albedo estimates are taken
+// at wo only and can be 0 where the lobe is not (a black metal at normal incidence); the
+// floor keeps every direction the lobe reaches sampled.
+constexpr float kMinLobeEstimate = 0.02f;
+
+// Clamp to [0, 1]; NaN becomes 0.
+float unit_clamp(float x) { return x > 0.0f ? (x < 1.0f ? x : 1.0f) : 0.0f; }
+glm::vec3 unit_clamp(const glm::vec3& v) { return {unit_clamp(v.x), unit_clamp(v.y), unit_clamp(v.z)}; }
+float average(const glm::vec3& v) { return (v.x + v.y + v.z) * (1.0f / 3.0f); }
+float max_component(const glm::vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
+
+glm::vec3 sample_cosine_hemisphere(glm::vec2 u) {
+  const float r = std::sqrt(u.x);
+  const float phi = 2.0f * std::numbers::pi_v<float> * u.y;
+  return {r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0f, 1.0f - u.x))};
+}
+
+glm::vec3 mirror_z(const glm::vec3& v) { return {v.x, v.y, -v.z}; }
+
+}  // namespace
+
+// ---- ShadingFrame ----------------------------------------------------------------------
+
+ShadingFrame ShadingFrame::from_normal(const glm::vec3& n) {
+  // Duff et al. 2017: a branchless basis, continuous except where n.z changes sign.
+  const float sign = std::copysign(1.0f, n.z);
+  const float a = -1.0f / (sign + n.z);
+  const float b = n.x * n.y * a;
+  return {glm::vec3(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x), glm::vec3(b, sign + n.y * n.y * a, -n.y), n};
+}
+
+ShadingFrame ShadingFrame::from_normal_tangent(const glm::vec3& n, const glm::vec3& t) {
+  const glm::vec3 projected = t - n * glm::dot(n, t);
+  const float len = glm::length(projected);
+  if (!(len > 1e-6f * glm::length(t)) || !std::isfinite(len)) return from_normal(n);
+  const glm::vec3 tangent = projected / len;
+  return {tangent, glm::cross(n, tangent), n};
+}
+
+glm::vec3 ShadingFrame::to_local(const glm::vec3& v) const { return {glm::dot(v, t), glm::dot(v, b), glm::dot(v, n)}; }
+
+glm::vec3 ShadingFrame::to_world(const glm::vec3& v) const { return v.x * t + v.y * b + v.z * n; }
+
+// ---- Bsdf ------------------------------------------------------------------------------
+
+Bsdf::Bsdf(const BsdfInputs& in, const ShadingFrame& frame, bool entering)
+    : frame_(frame),
+      base_color_(unit_clamp(in.base_color)),
+      metallic_(unit_clamp(in.metallic)),
+      specular_(unit_clamp(in.specular)),
+      transmission_(unit_clamp(in.transmission)),
+      ggx_(unit_clamp(in.roughness) * unit_clamp(in.roughness)),
+      fresnel_(in.ior, in.specular_color,
+               unit_clamp(in.transmission) > 0.0f ? DielectricFresnel::Form::Exact : DielectricFresnel::Form::Schlick),
+      eta_(1.0f),
+      entering_(entering) {
+  // dielectric_f0 < 1 exactly when ior is a usable index of refraction.
+  const bool can_refract = fresnel_.f0_ior() < 1.0f;
+  if (can_refract) eta_ = entering ? in.ior : 1.0f / in.ior;
+  const float dielectric = 1.0f - metallic_;
+  const bool dielectric_reflects =
+      dielectric * specular_ > 0.0f &&
+      (fresnel_.form() == DielectricFresnel::Form::Schlick || fresnel_.f0_ior() > 0.0f);
+  const bool tinted = max_component(base_color_) > 0.0f;
+  has_reflection_ = metallic_ > 0.0f || dielectric_reflects;
+  has_diffuse_ = dielectric * (1.0f - transmission_) > 0.0f && tinted;
+  has_transmission_ = can_refract && dielectric * transmission_ > 0.0f && tinted;
+  smooth_transmission_ = ggx_.smooth() || std::abs(eta_ - 1.0f) < kIndexMatched;
+  split_at_normal_ = ggx_.smooth() || (has_transmission_ && smooth_transmission_);
+}
+
+bool Bsdf::has_delta() const {
+  return (has_reflection_ && ggx_.smooth()) || (has_transmission_ && smooth_transmission_);
+}
+
+bool Bsdf::is_delta_only() const {
+  return has_delta() && !has_diffuse_ && (!has_reflection_ || ggx_.smooth()) &&
+         (!has_transmission_ || smooth_transmission_);
+}
+
+// The colour that multiplies specular_brdf: metal's conductor_fresnel and the dielectric's
+// specular * fr, mixed by metallic (spec B.2, KHR_materials_specular).
+glm::vec3 Bsdf::specular_tint(float cos_wo_h, const glm::vec3& fr) const {
+  return metallic_ * schlick_fresnel(base_color_, cos_wo_h) + (1.0f - metallic_) * specular_ * fr;
+}
+
+// Weight of the dielectric's base (diffuse + transmission): (1 - metallic)(1 - specular max(fr)).
+float Bsdf::base_weight(const glm::vec3& fr) const {
+  return (1.0f - metallic_) * (1.0f - specular_ * max_component(fr));
+}
+
+bool Bsdf::to_oriented_local(const glm::vec3& wo, const glm::vec3& wi, glm::vec3& lo, glm::vec3& li) const {
+  lo = frame_.to_local(wo);
+  li = frame_.to_local(wi);
+  if (!(lo.z != 0.0f)) return false;  // in the tangent plane, or NaN
+  if (lo.z < 0.0f) {
+    lo = mirror_z(lo);
+    li = mirror_z(li);
+  }
+  return true;
+}
+
+Bsdf::InterfaceSplit Bsdf::interface_split(const glm::vec3& wo, const glm::vec3& m) const {
+  const float cos_wo_m = glm::dot(wo, m);
+  const glm::vec3 fr = fresnel_.reflectance(cos_wo_m, eta_);
+  const float r = has_reflection_ ? average(specular_tint(cos_wo_m, fr)) : 0.0f;
+  const float t = has_transmission_ && refract_about(wo, m, eta_)
+                      ? base_weight(fr) * transmission_ * average(base_color_)
+                      : 0.0f;
+  const float sum = r + t;
+  if (!(sum > 0.0f)) return {};
+  return {r / sum, t / sum};
+}
+
+Bsdf::LobeChoice Bsdf::choose_lobes(const glm::vec3& wo) const {
+  // Albedo estimates with the facet normal replaced by n: exact for the delta lobes.
+  const glm::vec3 fr = fresnel_.reflectance(wo.z, eta_);
+  const float base = base_weight(fr) * average(base_color_);
+  float interface = 0.0f, diffuse = 0.0f;
+  if (has_reflection_) interface += average(specular_tint(wo.z, fr));
+  if (has_transmission_ && (!smooth_transmission_ || refract_about(wo, glm::vec3(0.0f, 0.0f, 1.0f), eta_)))
+    interface += base * transmission_;
+  const bool rough_interface = (has_reflection_ && !ggx_.smooth()) || (has_transmission_ && !smooth_transmission_);
+  if (rough_interface) interface = std::max(interface, kMinLobeEstimate);
+  if (has_diffuse_) diffuse = std::max(base * (1.0f - transmission_), kMinLobeEstimate);
+  const float sum = interface + diffuse;
+  if (!(sum > 0.0f)) return {};
+  return {interface / sum, diffuse / sum};
+}
+
+glm::vec3 Bsdf::eval_local(const glm::vec3& wo, const glm::vec3& wi) const {
+  glm::vec3 f(0.0f);
+  if (wi.z > 0.0f) {
+    if (!has_diffuse_ && !(has_reflection_ && !ggx_.smooth())) return f;
+    const glm::vec3 h = glm::normalize(wo + wi);
+    const float cos_wo_h = glm::dot(wo, h);
+    const glm::vec3 fr = fresnel_.reflectance(cos_wo_h, eta_);
+    if (has_reflection_ && !ggx_.smooth()) {
+      // specular_brdf * cos(wi) = D G2 / (4 |n.wo|)
+      f += specular_tint(cos_wo_h, fr) * (ggx_.d(h) * ggx_.g2(wo, wi) / (4.0f * wo.z));
+    }
+    if (has_diffuse_) f += (base_weight(fr) * (1.0f - transmission_) * kInvPi * wi.z) * base_color_;
+  } else if (wi.z < 0.0f && has_transmission_ && !smooth_transmission_) {
+    const auto h = refraction_half_vector(wo, wi, eta_);
+    if (!h) return f;
+    const float cos_o = glm::dot(wo, *h);
+    const float cos_i = glm::dot(wi, *h);
+    const float denom = cos_o + eta_ * cos_i;
+    // Walter et al. 2007, eq. 21 without F, times |cos(wi)|.
+    const float btdf_cos =
+        eta_ * eta_ * cos_o * std::abs(cos_i) * ggx_.d(*h) * ggx_.g2(wo, wi) / (wo.z * denom * denom);
+    const glm::vec3 fr = fresnel_.reflectance(cos_o, eta_);
+    f += (base_weight(fr) * transmission_ * btdf_cos) * base_color_;
+  }
+  return f;
+}
+
+float Bsdf::pdf_local(const glm::vec3& wo, const glm::vec3& wi, const LobeChoice& lobes) const {
+  const glm::vec3 n(0.0f, 0.0f, 1.0f);
+  float p = 0.0f;
+  if (wi.z > 0.0f) {
+    if (lobes.interface > 0.0f && has_reflection_ && !ggx_.smooth()) {
+      // D_wo(h) / (4 wo.h) with D_wo(h) = G1(wo) (wo.h) D(h) / wo.z (Heitz 2018), times the
+      // probability of reflecting rather than refracting.
+      const glm::vec3 h = glm::normalize(wo + wi);
+      const float reflect = interface_split(wo, split_at_normal_ ? n : h).reflect;
+      p += lobes.interface * reflect * ggx_.g1(wo) * ggx_.d(h) / (4.0f * wo.z);
+    }
+    if (lobes.diffuse > 0.0f) p += lobes.diffuse * kInvPi * wi.z;
+  } else if (wi.z < 0.0f && lobes.interface > 0.0f && has_transmission_ && !smooth_transmission_) {
+    if (const auto h = refraction_half_vector(wo, wi, eta_)) {
+      const float cos_i = glm::dot(wi, *h);
+      const float denom = glm::dot(wo, *h) + eta_ * cos_i;
+      // D_wo(h) times the Jacobian |dh / dwi| of refraction (Walter et al. 2007, eq. 17).
+      const float refract = interface_split(wo, *h).refract;
+      p += lobes.interface * refract * ggx_.visible_pdf(wo, *h) * eta_ * eta_ * std::abs(cos_i) / (denom * denom);
+    }
+  }
+  return p;
+}
+
+glm::vec3 Bsdf::eval(const glm::vec3& wo, const glm::vec3& wi) const {
+  glm::vec3 lo, li;
+  if (!to_oriented_local(wo, wi, lo, li)) return glm::vec3(0.0f);
+  return eval_local(lo, li);
+}
+
+float Bsdf::pdf(const glm::vec3& wo, const glm::vec3& wi) const {
+  glm::vec3 lo, li;
+  if (!to_oriented_local(wo, wi, lo, li)) return 0.0f;
+  return pdf_local(lo, li, choose_lobes(lo));
+}
+
+std::optional<BsdfSample> Bsdf::sample(const glm::vec3& wo, float u_lobe, glm::vec2 u) const {
+  glm::vec3 lo = frame_.to_local(wo);
+  if (!(lo.z != 0.0f)) return std::nullopt;
+  const bool flipped = lo.z < 0.0f;
+  if (flipped) lo = mirror_z(lo);
+  const LobeChoice lobes = choose_lobes(lo);
+  const auto to_world = [&](const glm::vec3& wi_local) {
+    return glm::normalize(frame_.to_world(flipped ? mirror_z(wi_local) : wi_local));
+  };
+  const glm::vec3 n(0.0f, 0.0f, 1.0f);
+
+  glm::vec3 wi(0.0f);
+  if (u_lobe < lobes.interface || (lobes.diffuse == 0.0f && lobes.interface > 0.0f)) {
+    // Reuse u_lobe, rescaled to [0, 1), for the choice between reflection and refraction.
+    const float u_split = std::min(u_lobe / lobes.interface, 0.99999994f);
+    if (split_at_normal_) {
+      const InterfaceSplit split = interface_split(lo, n);
+      if (u_split < split.reflect) {
+        if (ggx_.smooth()) {
+          const float p = lobes.interface * split.reflect;
+          const glm::vec3 throughput = specular_tint(lo.z, fresnel_.reflectance(lo.z, eta_));
+          return BsdfSample{to_world(glm::vec3(-lo.x, -lo.y, lo.z)), throughput / p, p, true, false};
+        }
+        wi = reflect_about(lo, ggx_.sample_visible(lo, u));
+        if (!(wi.z > 0.0f)) return std::nullopt;  // reflected below the surface
+      } else if (split.refract > 0.0f) {  // a delta refraction: smooth or index-matched
+        const auto refracted = refract_about(lo, n, eta_);
+        if (!refracted) return std::nullopt;
+        const float p = lobes.interface * split.refract;
+        const glm::vec3 throughput = (base_weight(fresnel_.reflectance(lo.z, eta_)) * transmission_) * base_color_;
+        return BsdfSample{to_world(*refracted), throughput / p, p, true, true};
+      } else {
+        return std::nullopt;
+      }
+    } else {
+      const glm::vec3 m = ggx_.sample_visible(lo, u);
+      const InterfaceSplit split = interface_split(lo, m);
+      if (u_split < split.reflect) {
+        wi = reflect_about(lo, m);
+        if (!(wi.z > 0.0f)) return std::nullopt;  // reflected below the surface
+      } else if (split.refract > 0.0f) {
+        const auto refracted = refract_about(lo, m, eta_);
+        if (!refracted || !(refracted->z < 0.0f)) return std::nullopt;  // refracted back up
+        wi = *refracted;
+      } else {
+        return std::nullopt;
+      }
+    }
+  } else if (lobes.diffuse > 0.0f) {
+    wi = sample_cosine_hemisphere(u);
+  } else {
+    return std::nullopt;  // nothing scatters
+  }
+
+  // Weight and pdf of the direction as the caller will see it: after the round trip to
+  // world space, so that pdf(wo, sample.wi) returns exactly sample.pdf. (At grazing angles
+  // the round trip moves a narrow lobe's half vector by a visible fraction of alpha.)
+  const glm::vec3 wi_world = to_world(wi);
+  glm::vec3 lo_again, li;
+  if (!to_oriented_local(wo, wi_world, lo_again, li)) return std::nullopt;
+  const float pdf = pdf_local(lo_again, li, lobes);
+  if (!(pdf > 0.0f)) return std::nullopt;
+  return BsdfSample{wi_world, eval_local(lo_again, li) / pdf, pdf, false, li.z < 0.0f};
+}
+
+}  // namespace lancer

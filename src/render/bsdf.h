@@ -1,0 +1,168 @@
+// The glTF 2.0 metallic-roughness BSDF with KHR_materials_ior, KHR_materials_specular and
+// KHR_materials_transmission, for the path tracer.
+//
+// The model, glTF 2.0 spec Appendix B.2 / B.3.5 plus the extensions (each line names its source):
+//   material   = mix(dielectric, metal, metallic)                               (B.2)
+//   metal      = specular_brdf * (baseColor + (1 - baseColor)(1 - |V.H|)^5)     (B.3.4 conductor_fresnel)
+//   dielectric = specular * fr * specular_brdf                                  (KHR_materials_specular fresnel_mix)
+//              + (1 - specular * max(fr)) * base
+//   base       = (1 - transmission) * baseColor / pi                           (B.3.3 diffuse_brdf)
+//              +      transmission  * baseColor * specular_btdf                 (KHR_materials_transmission)
+//   fr         = f0 + (1 - f0) w,  f0 = min(((ior - 1)/(ior + 1))^2 specularColor, 1)  (KHR_materials_ior/specular)
+// - specular_brdf = D G2 / (4 |n.l| |n.v|), GGX D with alpha = roughness^2 (B.3.2); G2 is the
+//   height-correlated Smith form (see microfacet.h; the spec text shows the separable one).
+// - w is Schlick's (1 - |V.H|)^5 (B.3.4) for opaque materials. For refractive ones
+//   (transmission > 0) it is the exact dielectric Fresnel curve rescaled to [0, 1]
+//   (fresnel.h), so that total internal reflection exists and a smooth interface reflects F
+//   and transmits exactly 1 - F.
+// - specular_btdf: the rough dielectric refraction of Walter, Marschner, Li & Torrance 2007,
+//   "Microfacet Models for Refraction through Rough Surfaces" (eq. 21 without its Fresnel
+//   factor, which fresnel_mix supplies): |wo.h||wi.h| eta^2 D G2 / (|n.wo||n.wi| (wo.h + eta wi.h)^2)
+//   with the generalised half vector h = normalize(wo + eta wi) (eq. 16), eta = n(wi side) /
+//   n(wo side). This is the refraction of a volume boundary (as with KHR_materials_volume);
+//   the extension's thin-walled variant (no macroscopic refraction) is not modelled.
+// - H in fresnel_mix is the half vector of the pair: the reflection half vector for the
+//   specular and diffuse terms, Walter's h for the transmission term.
+// - For 0 < metallic < 1 this is B.2's mix of the two BRDFs. B.3.5's shortcut (one F with
+//   f0 = lerp(0.04, baseColor, metallic) for both layers) equals it only at metallic 0 or 1.
+//
+// Conventions and choices:
+// - Two-sided: the side of the shading normal that wo lies on is the side the ray came from;
+//   `entering` says whether that side is outside (index 1) or inside (index ior). Hence
+//   eta = ior when entering, 1 / ior when exiting, whichever way frame.n points. transmitted
+//   in BsdfSample means "wi on the other side of the shading normal than wo"; the integrator
+//   checks the geometric side and does Beer-Lambert (KHR_materials_volume) itself.
+// - No (n_wo / n_wi)^2 radiance scaling across the interface: the BTDF is in the form whose
+//   directional albedo is at most 1 in both directions (importance form). A path that enters
+//   and leaves a closed object has the factors cancel; an integrator that starts or ends a
+//   path inside a medium must apply it.
+// - Delta lobes: alpha < kSmoothAlpha = 1e-3 (roughness < ~0.032) makes the reflection and
+//   transmission lobes perfect mirror / refraction lobes. An index-matched interface
+//   (|eta - 1| < 1e-3) refracts as a delta lobe whatever the roughness (light passes
+//   straight through; with ior = 1 the exact Fresnel term is 0, so nothing reflects).
+//   eval() and pdf() never include delta lobes.
+// - Sampling picks the interface lobe (microfacet reflection + refraction) or the diffuse
+//   lobe with probabilities proportional to estimates of their albedos at wo. The interface
+//   draws a microfacet normal m from the distribution of visible normals (Heitz 2018), then
+//   reflects or refracts through m with probabilities proportional to the two terms' weights
+//   at m (as Walter et al. 2007 choose by F), so facets beyond the critical
+//   angle always reflect. The diffuse lobe is cosine-distributed. A non-delta sample's
+//   weight and pdf are those of the whole mixture of non-delta lobes (eval / pdf), so it
+//   combines directly with light sampling; a delta sample's probability is exact.
+// - Inputs are clamped to their ranges (metallic, roughness, transmission, specular,
+//   baseColor in [0, 1], specularColor >= 0); an ior that is not a positive finite number
+//   gives F0 = 1 and no refraction (see dielectric_f0).
+//
+// Known energy loss: the microfacet terms model single scattering only. Light that the
+// Smith G2 term masks after one bounce leaves no trace, so the directional albedo of a white
+// metal falls with roughness: 0.99 at roughness 0.3, 0.82 at 0.6 and 0.31 at 1.0 (exactly
+// 1 - ln 2 there) at normal incidence; rough glass seen from inside loses most (0.42 at
+// roughness 1), since light trapped by total internal reflection at the facets is masked
+// (Heitz et al. 2016, "Multiple-Scattering Microfacet BSDFs with the Smith Model"; Kulla &
+// Conty 2017 compensate it). The opposite also happens: the spec's fresnel_mix weights the
+// diffuse base by 1 - F(V.H) with the half vector of each diffuse pair, which is reciprocal
+// but not energy conserving. A glossy white dielectric at grazing incidence reflects more
+// than it receives: albedo 1.57 at roughness 0.1 and 85 degrees, 1.03 at 60 degrees (B.3
+// itself warns that its formulation breaks energy conservation). Scaling the base by the
+// specular layer's directional albedo (as OpenPBR does) would fix it but is not the spec.
+// tests/render/bsdf_sampling_test.cpp measures and prints these albedos per case.
+#pragma once
+
+#include <optional>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "render/fresnel.h"
+#include "render/microfacet.h"
+
+namespace lancer {
+
+// Orthonormal shading frame; local z = shading normal.
+struct ShadingFrame {
+  glm::vec3 t, b, n;
+  // Any tangent: the branchless basis of Duff et al. 2017, "Building an Orthonormal Basis,
+  // Revisited", JCGT 6(1). n must be unit.
+  static ShadingFrame from_normal(const glm::vec3& n);
+  // t projected onto the plane of n (Gram-Schmidt); falls back to from_normal when t is
+  // (nearly) parallel to n or not finite.
+  static ShadingFrame from_normal_tangent(const glm::vec3& n, const glm::vec3& t);
+  glm::vec3 to_local(const glm::vec3& v) const;
+  glm::vec3 to_world(const glm::vec3& v) const;
+};
+
+// Everything the BSDF needs at one shading point, already evaluated (textures applied by the caller).
+struct BsdfInputs {
+  glm::vec3 base_color{1.0f};  // linear
+  float metallic = 1.0f, roughness = 1.0f;  // glTF perceptual roughness; alpha = roughness^2
+  float ior = 1.5f;
+  float specular = 1.0f;
+  glm::vec3 specular_color{1.0f};
+  float transmission = 0.0f;
+};
+
+struct BsdfSample {
+  glm::vec3 wi;      // world space, unit
+  glm::vec3 weight;  // f * |cos(wi, n)| / pdf  (for delta lobes: the lobe's throughput / its probability)
+  float pdf;         // solid-angle pdf; for delta lobes the discrete probability of the lobe, and `delta` is set
+  bool delta;
+  bool transmitted;  // wi on the other side of the shading surface than wo
+};
+
+class Bsdf {
+ public:
+  // wo-independent setup. `entering`: true when the ray arrives from outside (the side the
+  // outward normal points to); ior ratios flip otherwise. Either pass the outward shading
+  // normal and entering = (wo on its side), or the normal flipped towards the ray and
+  // entering = front_face (SurfacePoint's convention); both give the same result.
+  Bsdf(const BsdfInputs& in, const ShadingFrame& frame, bool entering);
+
+  // f(wo, wi) * |cos(wi, n)| for the non-delta lobes (0 for delta-only materials). wo, wi unit, pointing away.
+  glm::vec3 eval(const glm::vec3& wo, const glm::vec3& wi) const;
+  // Density of sample() producing wi from its non-delta lobes (solid angle).
+  float pdf(const glm::vec3& wo, const glm::vec3& wi) const;
+  // nullopt: absorbed, or the drawn direction left the lobe's domain (weight 0).
+  std::optional<BsdfSample> sample(const glm::vec3& wo, float u_lobe, glm::vec2 u) const;
+
+  bool has_delta() const;
+  bool is_delta_only() const;
+  bool entering() const { return entering_; }
+  // n(far side) / n(wo side): ior when entering, 1 / ior when exiting.
+  float eta() const { return eta_; }
+
+ private:
+  // Probabilities of the two sampling lobes for a given wo (local, wo.z > 0): the interface
+  // (microfacet reflection and refraction) and the diffuse base. They sum to 1, or both are
+  // 0 when nothing scatters.
+  struct LobeChoice {
+    float interface = 0.0f, diffuse = 0.0f;
+  };
+  // How the interface lobe splits between reflection and refraction at facet normal m.
+  struct InterfaceSplit {
+    float reflect = 0.0f, refract = 0.0f;
+  };
+  LobeChoice choose_lobes(const glm::vec3& wo) const;
+  InterfaceSplit interface_split(const glm::vec3& wo, const glm::vec3& m) const;
+  glm::vec3 specular_tint(float cos_wo_h, const glm::vec3& fr) const;
+  float base_weight(const glm::vec3& fr) const;
+  glm::vec3 eval_local(const glm::vec3& wo, const glm::vec3& wi) const;
+  float pdf_local(const glm::vec3& wo, const glm::vec3& wi, const LobeChoice& lobes) const;
+  // wo, wi in the local frame, mirrored so that wo.z > 0; false when wo is in the tangent plane.
+  bool to_oriented_local(const glm::vec3& wo, const glm::vec3& wi, glm::vec3& lo, glm::vec3& li) const;
+
+  ShadingFrame frame_;
+  glm::vec3 base_color_;
+  float metallic_, specular_, transmission_;
+  GgxDistribution ggx_;
+  DielectricFresnel fresnel_;
+  float eta_;
+  bool entering_;
+  // Which lobes exist at all (independent of wo).
+  bool has_reflection_, has_diffuse_, has_transmission_;
+  bool smooth_transmission_;  // delta refraction: smooth, or index-matched
+  // Whether reflection vs refraction is decided at the macro normal (a delta lobe is
+  // involved) rather than at the sampled microfacet normal.
+  bool split_at_normal_;
+};
+
+}  // namespace lancer

@@ -1,0 +1,69 @@
+// The GGX / Trowbridge-Reitz microfacet distribution and its Smith masking-shadowing,
+// in a local shading frame whose z axis is the (macro) normal. All directions are unit
+// vectors pointing away from the surface.
+//
+// - D(m): glTF 2.0 spec, Appendix B.3.2, D = a^2 X+(n.m) / (pi ((n.m)^2 (a^2 - 1) + 1)^2),
+//   written with the tangential components of m (for unit m, (n.m)^2 (a^2 - 1) + 1 =
+//   a^2 m.z^2 + m.x^2 + m.y^2), which keeps its precision at the tiny angles of sharp lobes.
+// - Smith Lambda(w) = (sqrt(1 + a^2 tan^2(theta)) - 1) / 2 (Heitz 2014, "Understanding the
+//   Masking-Shadowing Function in Microfacet-Based BRDFs", JCGT 3(2)), G1 = 1 / (1 + L).
+// - G2: the height-correlated form 1 / (1 + L(wo) + L(wi)) (Heitz 2014, section 6). For a
+//   reflection pair, G2 / (4 |n.l| |n.v|) is exactly the V_GGX of the glTF sample renderer
+//   (the spec's text gives the separable G1 G1; height-correlated is the more accurate one).
+//   For a refraction pair the exact height-correlated form is a Beta function (Heitz 2014,
+//   section 6); we use the same 1 / (1 + L + L), as pbrt-v4 does. It keeps G2 <= G1(wo), so
+//   no lobe ever returns more energy than it receives.
+// - Sampling: the distribution of visible normals D_wo(m) = G1(wo) max(0, wo.m) D(m) / wo.z,
+//   drawn exactly by Heitz 2018, "Sampling the GGX Distribution of Visible Normals", JCGT 7(4).
+#pragma once
+
+#include <optional>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+namespace lancer {
+
+// Below this alpha (= roughness^2) a lobe is treated as perfectly smooth, i.e. as a delta
+// lobe. pbrt-v4 uses the same bound ("EffectivelySmooth"): at alpha = 1e-3 the lobe is
+// about 0.06 degrees wide, and below it the half vector of a float direction pair is no
+// longer accurate enough for D to be evaluated consistently with the sampler.
+inline constexpr float kSmoothAlpha = 1e-3f;
+
+class GgxDistribution {
+ public:
+  explicit GgxDistribution(float alpha) : alpha_(alpha) {}
+  float alpha() const { return alpha_; }
+  bool smooth() const { return alpha_ < kSmoothAlpha; }
+
+  // D(m) for a unit microfacet normal m; 0 below the macro surface.
+  float d(const glm::vec3& m) const;
+  // Smith Lambda(w); +infinity for w in the tangent plane.
+  float lambda(const glm::vec3& w) const;
+  float g1(const glm::vec3& w) const { return 1.0f / (1.0f + lambda(w)); }
+  // Height-correlated masking-shadowing of the pair (either side of the surface).
+  float g2(const glm::vec3& wo, const glm::vec3& wi) const { return 1.0f / (1.0f + lambda(wo) + lambda(wi)); }
+
+  // Density of visible normals D_wo(m) (per unit solid angle of m); wo.z > 0.
+  float visible_pdf(const glm::vec3& wo, const glm::vec3& m) const;
+  // A microfacet normal drawn from D_wo (Heitz 2018, section 3); wo.z > 0, u in [0, 1)^2.
+  glm::vec3 sample_visible(const glm::vec3& wo, glm::vec2 u) const;
+
+ private:
+  float alpha_;
+};
+
+// Mirror `wo` about the unit normal `m`.
+glm::vec3 reflect_about(const glm::vec3& wo, const glm::vec3& m);
+
+// Refract `wo` (on the side m points to, wo.m > 0) through the interface with normal m;
+// eta = n(far side) / n(wo side). nullopt on total internal reflection.
+std::optional<glm::vec3> refract_about(const glm::vec3& wo, const glm::vec3& m, float eta);
+
+// The microfacet normal that refracts wo into wi (wo.z > 0 > wi.z): the generalised half
+// vector of Walter et al. 2007 (eq. 16), normalize(wo + eta wi) oriented to z > 0.
+// nullopt when no facet facing both directions correctly exists (wo.h <= 0 or wi.h >= 0)
+// or the pair is degenerate (eta = 1 and wi = -wo).
+std::optional<glm::vec3> refraction_half_vector(const glm::vec3& wo, const glm::vec3& wi, float eta);
+
+}  // namespace lancer

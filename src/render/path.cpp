@@ -1,0 +1,208 @@
+#include "render/path.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+#include "accel/ray_offset.h"
+#include "render/bsdf.h"
+#include "render/shading_inputs.h"
+
+namespace lancer {
+
+namespace {
+
+// Shadow rays toward a point stop this fraction short of it (the light's own surface is
+// not an occluder); the same rule as the Whitted integrator.
+constexpr float kShadowShorten = 1e-4f;
+constexpr float kMinLightDistance2 = 1e-20f;
+constexpr int kRouletteDepth = 3;
+constexpr float kMinSurvival = 0.05f;
+
+// Veach's power heuristic with beta = 2, weight of the strategy with density `a`.
+float power_heuristic(float a, float b) {
+  if (!(a > 0.0f)) return 0.0f;
+  if (std::isinf(a)) return 1.0f;
+  const float a2 = a * a, b2 = b * b;
+  return std::isfinite(b2) ? a2 / (a2 + b2) : 0.0f;
+}
+
+float max_component(const glm::vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
+bool is_black(const glm::vec3& v) { return v.x <= 0.0f && v.y <= 0.0f && v.z <= 0.0f; }
+bool is_finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// The largest |coordinate| of triangle i's vertices.
+float triangle_scale(const TriangleSoA& t, std::uint32_t i) {
+  float m = 0.0f;
+  for (int k = 0; k < 3; ++k)
+    m = std::max({m, std::fabs(t.x[k][i]), std::fabs(t.y[k][i]), std::fabs(t.z[k][i])});
+  return m;
+}
+
+// A ray leaving the hit point along dir, its origin pushed off the surface to the side it
+// leaves (Wächter & Binder's offset along the geometric normal, at least 2^-16 of the
+// triangle's reach: ray_offset.h).
+glm::vec3 leave_from(const ShadingInputs& si, float scale, const glm::vec3& dir) {
+  return offset_ray_origin(si.p, glm::dot(dir, si.ng) >= 0.0f ? si.ng : -si.ng, scale);
+}
+
+// A direction counts only where the shading normal and the geometric normal agree on the
+// side it lies on (else a normal map or interpolated normal would let light leak through
+// the surface). ng and ns both face wo.
+bool sides_agree(const ShadingInputs& si, const glm::vec3& wi) {
+  return (glm::dot(wi, si.ng) > 0.0f) == (glm::dot(wi, si.ns) > 0.0f);
+}
+
+// Beer-Lambert absorption coefficient of a KHR_materials_volume material, or nothing.
+bool volume_absorption(const ShadingInputs& si, glm::vec3& sigma_a) {
+  if (!(si.thickness > 0.0f) || !(si.attenuation_distance > 0.0f) || !std::isfinite(si.attenuation_distance))
+    return false;
+  const glm::vec3 c = glm::max(si.attenuation_color, glm::vec3(1e-6f));
+  sigma_a = -glm::log(c) / si.attenuation_distance;
+  return true;
+}
+
+}  // namespace
+
+PathIntegrator::PathIntegrator(const Scene& scene, const Accelerator& accel, const AreaLights& area_lights,
+                               const Environment* environment, int max_depth)
+    : scene_(scene), accel_(accel), area_lights_(area_lights), environment_(environment), max_depth_(max_depth) {}
+
+glm::vec3 PathIntegrator::radiance_from_hit(const Ray& camera_ray, const Hit& first_hit, SobolSampler& sampler,
+                                            std::uint64_t& rays) const {
+  glm::vec3 L(0.0f), beta(1.0f);
+  Ray ray = camera_ray;
+  Hit hit = first_hit;
+  float prev_pdf = 0.0f;   // solid-angle pdf of the BSDF sample that made `ray`
+  bool prev_delta = true;  // the camera ray, or a delta lobe: no light sampling competes
+  bool in_volume = false;
+  glm::vec3 sigma_a(0.0f);
+
+  for (int depth = 0;; ++depth) {
+    const float dir_length = glm::length(ray.dir);
+    const glm::vec3 dir = ray.dir / dir_length;
+    if (!hit.valid()) {
+      if (environment_) {
+        const float w = prev_delta ? 1.0f : power_heuristic(prev_pdf, environment_->pdf(dir));
+        L += beta * environment_->radiance(dir) * w;
+      }
+      break;
+    }
+    if (in_volume) beta *= glm::exp(-sigma_a * (hit.t * dir_length));
+    const ShadingInputs si = evaluate_shading(scene_, ray, hit);
+    const float scale = triangle_scale(scene_.triangles, hit.prim);
+
+    if (si.front_face && !is_black(si.emission)) {
+      float w = 1.0f;
+      if (!prev_delta) {
+        const float pdf_area = area_lights_.pdf_area(hit.prim);
+        const float cos_l = std::abs(glm::dot(si.ng, dir));
+        const float distance = hit.t * dir_length;
+        if (pdf_area > 0.0f && cos_l > 0.0f) w = power_heuristic(prev_pdf, pdf_area * distance * distance / cos_l);
+      }
+      L += beta * si.emission * w;
+    }
+    if (depth >= max_depth_) break;
+
+    // The dimensions of one bounce, drawn in a fixed order whatever is used.
+    const float u_light_pick = sampler.next1();
+    const glm::vec2 u_light = sampler.next2();
+    const glm::vec2 u_env = sampler.next2();
+    const float u_lobe = sampler.next1();
+    const glm::vec2 u_bsdf = sampler.next2();
+    const float u_roulette = sampler.next1();
+
+    const BsdfInputs inputs{si.base_color, si.metallic,       si.roughness,   si.ior,
+                            si.specular,   si.specular_color, si.transmission};
+    const Bsdf bsdf(inputs, ShadingFrame::from_normal_tangent(si.ns, si.tangent), si.front_face);
+    const glm::vec3 wo = -dir;
+
+    if (!bsdf.is_delta_only()) {
+      // Emissive triangles.
+      if (!area_lights_.empty()) {
+        const AreaLightSample ls = area_lights_.sample(u_light_pick, u_light.x, u_light.y);
+        const glm::vec3 d = ls.point - si.p;
+        const float dist2 = glm::dot(d, d);
+        if (dist2 > kMinLightDistance2 && ls.pdf_area > 0.0f) {
+          const glm::vec3 wi = d / std::sqrt(dist2);
+          const float cos_l = -glm::dot(ls.normal, wi);
+          const glm::vec3 f = cos_l > 0.0f && sides_agree(si, wi) ? bsdf.eval(wo, wi) : glm::vec3(0.0f);
+          if (!is_black(f)) {
+            Ray shadow;
+            shadow.org = leave_from(si, scale, wi);
+            shadow.dir = offset_ray_origin(ls.point, ls.normal) - shadow.org;
+            shadow.tfar = 1.0f - kShadowShorten;
+            ++rays;
+            if (!accel_.occluded(shadow)) {
+              glm::vec3 Le = ls.radiance;
+              if (scene_.materials[scene_.material_id[ls.prim]].emissive_texture.present()) {
+                Ray toward;
+                toward.org = si.p;
+                toward.dir = wi;
+                Le = evaluate_shading(scene_, toward, Hit{std::sqrt(dist2), ls.prim, ls.b1, ls.b2}).emission;
+              }
+              const float light_pdf = ls.pdf_area * dist2 / cos_l;
+              L += beta * f * Le * (power_heuristic(light_pdf, bsdf.pdf(wo, wi)) / light_pdf);
+            }
+          }
+        }
+      }
+      // The environment.
+      if (environment_) {
+        const EnvSample es = environment_->sample(u_env);
+        const glm::vec3 f =
+            es.pdf > 0.0f && sides_agree(si, es.dir) ? bsdf.eval(wo, es.dir) : glm::vec3(0.0f);
+        if (!is_black(f) && !is_black(es.radiance)) {
+          Ray shadow;
+          shadow.org = leave_from(si, scale, es.dir);
+          shadow.dir = es.dir;
+          ++rays;
+          if (!accel_.occluded(shadow))
+            L += beta * f * es.radiance * (power_heuristic(es.pdf, bsdf.pdf(wo, es.dir)) / es.pdf);
+        }
+      }
+      // Punctual lights: delta lights, one shadow ray each.
+      for (const PunctualLight& light : scene_.lights) {
+        const PunctualIncidence in = illuminate(light, si.p);
+        if (is_black(in.irradiance) || !sides_agree(si, in.wi)) continue;
+        const glm::vec3 f = bsdf.eval(wo, in.wi);
+        if (is_black(f)) continue;
+        Ray shadow;
+        shadow.org = leave_from(si, scale, in.wi);
+        if (light.type == LightType::Directional) {
+          shadow.dir = in.wi;
+        } else {
+          shadow.dir = light.position - shadow.org;
+          shadow.tfar = 1.0f - kShadowShorten;
+        }
+        ++rays;
+        if (!accel_.occluded(shadow)) L += beta * f * in.irradiance;
+      }
+    }
+
+    // Continue the path by sampling the BSDF.
+    const std::optional<BsdfSample> bs = bsdf.sample(wo, u_lobe, u_bsdf);
+    if (!bs || !sides_agree(si, bs->wi)) break;
+    beta *= bs->weight;
+    if (is_black(beta) || !is_finite(beta)) break;
+    prev_pdf = bs->pdf;
+    prev_delta = bs->delta;
+    if (bs->transmitted) in_volume = si.front_face && volume_absorption(si, sigma_a);
+    if (depth + 1 >= kRouletteDepth) {
+      const float survive = std::max(kMinSurvival, std::min(1.0f, max_component(beta)));
+      if (u_roulette >= survive) break;
+      beta /= survive;
+    }
+    ray = Ray{};
+    ray.org = leave_from(si, scale, bs->wi);
+    ray.dir = bs->wi;
+    ++rays;
+    hit = accel_.intersect(ray);
+  }
+  // A sample that went non-finite (a degenerate configuration the checks above missed)
+  // is dropped rather than poisoning its pixel.
+  return is_finite(L) ? L : glm::vec3(0.0f);
+}
+
+}  // namespace lancer

@@ -1,0 +1,109 @@
+#include "render/shading_inputs.h"
+
+#include <cstddef>
+#include <cstdint>
+
+#include <glm/geometric.hpp>
+
+#include "render/normal_mapping.h"
+#include "render/surface.h"
+#include "render/texture.h"
+
+namespace lancer {
+
+namespace {
+
+// The barycentric blend of triangle `tri`'s three corner values.
+template <typename T>
+T interpolate(const std::vector<T>& corners, std::size_t tri, float w, float u, float v) {
+  const T* c = &corners[3 * tri];
+  return w * c[0] + u * c[1] + v * c[2];
+}
+
+float coverage(const Material& m, float alpha) {
+  switch (m.alpha_mode) {
+    case AlphaMode::Opaque:
+      return 1.0f;
+    case AlphaMode::Mask:
+      return alpha >= m.alpha_cutoff ? 1.0f : 0.0f;
+    case AlphaMode::Blend:
+      break;
+  }
+  return alpha;
+}
+
+// The tangent frame (xyz unit and orthogonal to `n`, w handedness) for the triangle's
+// normal map, per the rules in shading_inputs.h; w = 0 when there is none.
+glm::vec4 normal_map_frame(const Scene& scene, std::size_t tri, std::uint8_t flags, float w, float u, float v,
+                           const glm::vec3& n, const TextureRef& normal_texture) {
+  if (flags & kHasTangents) {
+    const glm::vec4 t = interpolate(scene.tangents, tri, w, u, v);
+    const float handedness = scene.tangents[3 * tri].w < 0.0f ? -1.0f : 1.0f;
+    return glm::vec4(orthogonal_tangent(glm::vec3(t), n), handedness);
+  }
+  const bool set1 = normal_texture.texcoord == 1;
+  const bool has_uv = set1 ? (flags & kHasTexcoords1) != 0 : (flags & kHasTexcoords) != 0;
+  if (!has_uv) return glm::vec4(0.0f);
+  const std::vector<glm::vec2>& texcoords = set1 ? scene.texcoords1 : scene.texcoords;
+  glm::vec3 p[3];
+  glm::vec2 uv[3];
+  for (int k = 0; k < 3; ++k) {
+    p[k] = scene.triangles.vertex(std::uint32_t(tri), k);
+    uv[k] = transform_uv(normal_texture, texcoords[3 * tri + std::size_t(k)]);
+  }
+  return triangle_tangent(p, uv, n);
+}
+
+}  // namespace
+
+ShadingInputs evaluate_shading(const Scene& scene, const Ray& ray, const Hit& hit) {
+  // Geometry exactly as the Whitted integrator sees it.
+  const SurfacePoint sp = make_surface_point(scene, ray, hit);
+  const std::size_t tri = hit.prim;
+  const float w = 1.0f - hit.u - hit.v, u = hit.u, v = hit.v;
+  const std::uint8_t flags = tri < scene.attrib_flags.size() ? scene.attrib_flags[tri] : 0;
+  const Material& m = *sp.material;
+
+  ShadingInputs si;
+  si.p = sp.p;
+  si.front_face = sp.front_face;
+  si.material = sp.material;
+  if (flags & kHasTexcoords) si.uv0 = interpolate(scene.texcoords, tri, w, u, v);
+  if ((flags & kHasTexcoords1) && !scene.texcoords1.empty()) si.uv1 = interpolate(scene.texcoords1, tri, w, u, v);
+
+  auto lookup = [&](const TextureRef& ref, TexelEncoding encoding) {
+    return sample_texture(scene, ref, si.uv0, si.uv1, encoding);
+  };
+  const glm::vec4 base = m.base_color * lookup(m.base_color_texture, TexelEncoding::Srgb);
+  si.base_color = glm::vec3(base);
+  si.alpha = coverage(m, base.a);
+  const glm::vec4 metal_rough = lookup(m.metallic_roughness_texture, TexelEncoding::Linear);
+  si.metallic = m.metallic * metal_rough.b;
+  si.roughness = m.roughness * metal_rough.g;
+  si.emission = m.emission() * glm::vec3(lookup(m.emissive_texture, TexelEncoding::Srgb));
+  si.ior = m.ior;
+  si.specular = m.specular * lookup(m.specular_texture, TexelEncoding::Linear).a;
+  si.specular_color = m.specular_color * glm::vec3(lookup(m.specular_color_texture, TexelEncoding::Srgb));
+  si.transmission = m.transmission * lookup(m.transmission_texture, TexelEncoding::Linear).r;
+  si.thickness = m.thickness * lookup(m.thickness_texture, TexelEncoding::Linear).g;
+  si.attenuation_distance = m.attenuation_distance;
+  si.attenuation_color = m.attenuation_color;
+
+  // The frame is built on the front side, where the file's tangents and normal map
+  // live, then flipped with the normals to the ray's side.
+  glm::vec3 n = sp.stored_shading_normal();
+  glm::vec4 frame = normal_map_frame(scene, tri, flags, w, u, v, n, m.normal_texture);
+  if (frame.w == 0.0f) frame = glm::vec4(any_tangent(n), 1.0f);
+  if (texture_image(scene, m.normal_texture)) {
+    const glm::vec3 texel(lookup(m.normal_texture, TexelEncoding::Linear));
+    n = perturb_normal(n, frame, texel, m.normal_texture.scale);
+  }
+  const float side = sp.front_face ? 1.0f : -1.0f;
+  const glm::vec3 wo = -glm::normalize(ray.dir);
+  si.ng = sp.ng;
+  si.ns = face_viewer(side * n, sp.ng, wo);
+  si.tangent = orthogonal_tangent(glm::vec3(frame), si.ns);
+  return si;
+}
+
+}  // namespace lancer

@@ -1,0 +1,105 @@
+// Owen-scrambled Sobol' samples, padded in 1D and 2D sets, for the path tracer.
+//
+// Construction (Burley 2020, "Practical Hash-based Owen Scrambling", JCGT 9(4)):
+//  - Each call consumes the next dimension(s): next1() one, next2() two. Dimension set d
+//    (starting at the current dimension) gets its own seeds, hashed from (pixel, seed, d).
+//  - The sample index is first shuffled: it goes through a nested uniform (Owen) scramble
+//    with the set's shuffle seed. An Owen scramble of the index maps the first 2^k indices
+//    onto one aligned block of 2^k indices, so every prefix of 2^k samples is still a
+//    whole Sobol' block, while pixels and dimension sets see the blocks in unrelated
+//    orders (this is what decorrelates the padded sets and neighbouring pixels).
+//  - 2D sets take Sobol' dimensions 0 and 1 (a (0,2)-sequence), 1D sets dimension 0 (the
+//    van der Corput sequence); each coordinate is then Owen-scrambled with its own seed.
+//    Owen scrambling keeps the net property, so the first 2^k samples of a 2D set have
+//    exactly one point in every elementary interval of area 2^-k (all shapes), and
+//    converge like O(N^-1.5) on smooth integrands (Owen 1997).
+//  - The Owen scramble is the hash of Laine & Karras 2011 ("Stratified Sampling for
+//    Stochastic Transparency", EGSR) with the multipliers of Burley 2020: on the
+//    bit-reversed value, adding a seed and x ^= x * even flip each bit as a function of
+//    the bits below it only, which after reversal is a nested uniform scramble.
+// Every value is a pure function of (x, y, sample index, seed, dimension); no state is
+// shared between pixels. Values are 24-bit floats in [0, 1), never 1.
+#pragma once
+
+#include <array>
+#include <cstdint>
+
+#include <glm/vec2.hpp>
+
+namespace lancer {
+
+namespace sobol {
+
+constexpr std::uint32_t reverse_bits(std::uint32_t v) {
+  v = ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
+  v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
+  v = ((v >> 4) & 0x0F0F0F0Fu) | ((v & 0x0F0F0F0Fu) << 4);
+  v = ((v >> 8) & 0x00FF00FFu) | ((v & 0x00FF00FFu) << 8);
+  return (v >> 16) | (v << 16);
+}
+
+// Generator matrix columns of Sobol' dimension 1 (the second), as 32-bit direction
+// numbers v_k = m_k / 2^k. Joe & Kuo (2008, new-joe-kuo-6.21201) give this dimension the
+// primitive polynomial x + 1 (degree s = 1, no inner coefficients) and m_1 = 1; the
+// recurrence m_k = 2 m_{k-1} xor m_{k-1} then gives 1, 3, 5, 15, 17, ... (Pascal's
+// triangle mod 2).
+constexpr std::array<std::uint32_t, 32> second_dimension_directions() {
+  std::array<std::uint32_t, 32> v{};
+  std::uint32_t m = 1;
+  for (int k = 1; k <= 32; ++k) {
+    if (k > 1) m = (m << 1) ^ m;
+    v[static_cast<std::size_t>(k - 1)] = m << (32 - k);
+  }
+  return v;
+}
+
+// Unscrambled Sobol' value of `index` in dimension 0 (van der Corput) or 1, as 0.32 fixed point.
+constexpr std::uint32_t sobol_dimension0(std::uint32_t index) { return reverse_bits(index); }
+std::uint32_t sobol_dimension1(std::uint32_t index);
+
+// Laine-Karras style permutation of a bit-reversed value: output bit b is input bit b
+// xor a function of the bits below b and the seed. Multipliers from Burley 2020.
+constexpr std::uint32_t laine_karras_permutation(std::uint32_t x, std::uint32_t seed) {
+  x += seed;
+  x ^= x * 0x6c50b47cu;
+  x ^= x * 0xb82f1e52u;
+  x ^= x * 0xc7afe638u;
+  x ^= x * 0x8d22f6e6u;
+  return x;
+}
+
+// Nested uniform (Owen) scramble of a 0.32 fixed-point value: bit b (from the top) is
+// flipped according to the bits above it.
+constexpr std::uint32_t owen_scramble(std::uint32_t x, std::uint32_t seed) {
+  return reverse_bits(laine_karras_permutation(reverse_bits(x), seed));
+}
+
+// The top 24 bits as a float: exact, in [0, 1), 0xFFFFFFFF gives 1 - 2^-24.
+constexpr float to_unit_float(std::uint32_t bits) {
+  return static_cast<float>(bits >> 8) * (1.0f / 16777216.0f);
+}
+
+}  // namespace sobol
+
+class SobolSampler {
+ public:
+  SobolSampler(std::uint32_t x, std::uint32_t y, std::uint32_t sample_index, std::uint64_t seed);
+
+  // One dimension: an Owen-scrambled, index-shuffled van der Corput value.
+  float next1();
+  // Two dimensions: an Owen-scrambled, index-shuffled point of Sobol' dimensions (0, 1).
+  glm::vec2 next2();
+
+  // The next dimension to be consumed (next1 advances it by 1, next2 by 2).
+  std::uint32_t dimension() const { return dimension_; }
+
+ private:
+  // 64 hashed bits for dimension set `dim` of this pixel; `salt` separates the streams.
+  std::uint64_t set_hash(std::uint32_t dim, std::uint64_t salt) const;
+
+  std::uint64_t pixel_key_ = 0;
+  std::uint32_t index_ = 0;
+  std::uint32_t dimension_ = 0;
+};
+
+}  // namespace lancer

@@ -1,0 +1,144 @@
+// A long render is never lost: the real `lancer` binary, interrupted by SIGINT or SIGTERM,
+// writes the image so far (valid files) and exits 130 or 143 within a second; --time ends
+// the render on its own; --checkpoint writes the outputs while it runs.
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "render/image_io.h"
+#include "test_paths.h"
+
+namespace lancer {
+namespace {
+
+namespace fs = std::filesystem;
+using Clock = std::chrono::steady_clock;
+
+class RenderProcess : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() / ("lancer_interrupt_" + std::to_string(::getpid()) + "_" +
+                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  // Starts `lancer render` on the Cornell box with `extra` options, stdout/stderr to files.
+  pid_t start(const std::vector<std::string>& extra) {
+    std::vector<std::string> args = {LANCER_BINARY, "render", (test::scenes_dir() / "cornell-box.gltf").string(),
+                                     "-o", exr().string(), "-o", png().string(), "--width", "96",
+                                     "--no-progress", "--threads", "2"};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const pid_t pid = fork();
+    if (pid == 0) {
+      const std::string out = (dir_ / "stdout").string(), err = (dir_ / "stderr").string();
+      if (!freopen(out.c_str(), "w", stdout) || !freopen(err.c_str(), "w", stderr)) _exit(99);
+      std::vector<char*> argv;
+      for (std::string& a : args) argv.push_back(a.data());
+      argv.push_back(nullptr);
+      execv(argv[0], argv.data());
+      _exit(98);
+    }
+    return pid;
+  }
+
+  // Waits up to `limit` seconds; returns the exit status (or -1 on a signal death / timeout).
+  static int wait_for(pid_t pid, double limit) {
+    const auto end = Clock::now() + std::chrono::duration<double>(limit);
+    for (;;) {
+      int status = 0;
+      const pid_t r = waitpid(pid, &status, WNOHANG);
+      if (r == pid) return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+      if (Clock::now() > end) {
+        kill(pid, SIGKILL);
+        waitpid(pid, &status, 0);
+        return -1;
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(5));
+    }
+  }
+
+  void expect_valid_images() const {
+    for (const fs::path& f : {exr(), png()}) {
+      const ImageRGB image = read_image(f);
+      EXPECT_EQ(image.width, 96) << f;
+      double total = 0.0;
+      for (float v : image.rgb) {
+        ASSERT_TRUE(std::isfinite(v)) << f;
+        total += v;
+      }
+      EXPECT_GT(total, 0.0) << f << " is black";
+    }
+  }
+
+  std::string read(const char* name) const {
+    std::FILE* f = std::fopen((dir_ / name).c_str(), "r");
+    std::string s;
+    if (!f) return s;
+    char buf[4096];
+    for (std::size_t n; (n = std::fread(buf, 1, sizeof buf, f)) > 0;) s.append(buf, n);
+    std::fclose(f);
+    return s;
+  }
+
+  fs::path exr() const { return dir_ / "render.exr"; }
+  fs::path png() const { return dir_ / "render.png"; }
+  fs::path dir_;
+};
+
+// A huge --spp keeps the render busy; 1.5 s in, it is well into its passes.
+TEST_F(RenderProcess, SigintWritesTheImageSoFarAndExits130WithinASecond) {
+  const pid_t pid = start({"--spp", "1000000"});
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  ASSERT_EQ(kill(pid, SIGINT), 0);
+  const auto sent = Clock::now();
+  const int code = wait_for(pid, 10.0);
+  const double took = std::chrono::duration<double>(Clock::now() - sent).count();
+  EXPECT_EQ(code, 130) << read("stderr");
+  EXPECT_LT(took, 1.0) << "seconds from SIGINT to exit";
+  EXPECT_NE(read("stdout").find("interrupted after"), std::string::npos) << read("stdout");
+  expect_valid_images();
+}
+
+TEST_F(RenderProcess, SigtermExits143WithTheImage) {
+  const pid_t pid = start({"--spp", "1000000"});
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  ASSERT_EQ(kill(pid, SIGTERM), 0);
+  EXPECT_EQ(wait_for(pid, 10.0), 143) << read("stderr");
+  expect_valid_images();
+}
+
+TEST_F(RenderProcess, TimeLimitEndsTheRenderWithStatus0) {
+  const pid_t pid = start({"--time", "0.5"});
+  EXPECT_EQ(wait_for(pid, 30.0), 0) << read("stderr");
+  EXPECT_NE(read("stdout").find("time limit reached"), std::string::npos) << read("stdout");
+  expect_valid_images();
+}
+
+// With --checkpoint the outputs appear while the render still runs.
+TEST_F(RenderProcess, CheckpointsWriteTheOutputsWhileRendering) {
+  const pid_t pid = start({"--time", "4", "--checkpoint", "0.2"});
+  bool seen_while_running = false;
+  for (int i = 0; i < 300 && !seen_while_running; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    int status = 0;
+    if (waitpid(pid, &status, WNOHANG) == pid) break;  // finished: too late to look
+    seen_while_running = fs::exists(exr()) && fs::exists(png());
+  }
+  EXPECT_TRUE(seen_while_running) << "no checkpoint within 3 s";
+  if (seen_while_running) expect_valid_images();
+  EXPECT_EQ(wait_for(pid, 30.0), 0) << read("stderr");
+  expect_valid_images();
+}
+
+}  // namespace
+}  // namespace lancer

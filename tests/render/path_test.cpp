@@ -1,0 +1,147 @@
+// The path tracer against closed-form answers, within the statistical error each render
+// predicts (mean over pixels +- 5 standard errors, plus 1e-4 for float rounding):
+//  - white furnace: a white Lambertian sphere inside a closed enclosure that reflects half
+//    and emits half: radiance 1 everywhere (L = Le + a L with Le = 1 - a), which takes
+//    every bounce, Russian roulette and the MIS of emitter hits to get right;
+//  - the same sphere under a uniform environment of radiance 1 (environment sampling);
+//  - a Lambertian plane of albedo a under a uniform sky L: radiance a L;
+//  - a smooth glass slab (ior 1.5) in front of an emitter: the slab's transmittance with
+//    all internal reflections, (1 - R) / (1 + R), R = ((n - 1) / (n + 1))^2;
+//  - a perfect mirror (metallic, base colour c) at 45 degrees: Schlick's c + (1 - c)(1 - cos)^5.
+// And no sample is ever NaN or infinite.
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "accel/kd_tree.h"
+#include "render/environment.h"
+#include "render/renderer.h"
+#include "render_test_scenes.h"
+#include "scene/procedural.h"
+
+namespace lancer {
+namespace {
+
+using test::add_material;
+
+struct Estimate {
+  double mean = 0.0, stderr_ = 0.0;
+};
+
+// Mean over the pixels of channel c, and its standard error.
+Estimate estimate(const ImageRGB& image, int c) {
+  const std::size_t n = image.rgb.size() / 3;
+  double sum = 0.0, sum2 = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double v = image.rgb[3 * i + static_cast<std::size_t>(c)];
+    sum += v;
+    sum2 += v * v;
+  }
+  const double mean = sum / static_cast<double>(n);
+  const double var = std::max(0.0, sum2 / static_cast<double>(n) - mean * mean);
+  return {mean, std::sqrt(var / static_cast<double>(n))};
+}
+
+void expect_radiance(const ImageRGB& image, double expected, const char* what) {
+  for (float v : image.rgb) ASSERT_TRUE(std::isfinite(v)) << what;
+  for (int c = 0; c < 3; ++c) {
+    const Estimate e = estimate(image, c);
+    EXPECT_NEAR(e.mean, expected, 5.0 * e.stderr_ + 1e-4)
+        << what << ", channel " << c << ": mean " << e.mean << " +- " << e.stderr_;
+  }
+}
+
+ImageRGB render_path(const Scene& scene, const PinholeCamera& cam, int spp, const Environment* env = nullptr,
+                     int max_depth = 64) {
+  const KdTree kd(scene.triangles);
+  RenderSettings s;
+  s.width = cam.width();
+  s.height = cam.height();
+  s.spp = spp;
+  s.integrator = IntegratorKind::Path;
+  s.max_depth = max_depth;
+  s.environment = env;
+  s.seed = 11;
+  RenderStats stats;
+  return render_image(scene, kd, cam, s, stats);
+}
+
+// A Lambertian material: no specular layer (KHR_materials_specular factor 0).
+Material lambert(float albedo) {
+  Material m = test::diffuse_material(glm::vec3(albedo));
+  m.specular = 0.0f;
+  return m;
+}
+
+// An emitter that reflects nothing (black, and no specular layer either).
+Material black_emitter(float radiance) {
+  Material m = test::emissive_material(glm::vec3(radiance));
+  m.specular = 0.0f;
+  return m;
+}
+
+// Turns the triangles from `first` on inside out (their front sides face the other way).
+void flip_winding(Scene& scene, std::size_t first) {
+  TriangleSoA& t = scene.triangles;
+  for (std::size_t i = first; i < t.size(); ++i) {
+    std::swap(t.x[1][i], t.x[2][i]);
+    std::swap(t.y[1][i], t.y[2][i]);
+    std::swap(t.z[1][i], t.z[2][i]);
+    std::swap(scene.normals[3 * i + 1], scene.normals[3 * i + 2]);
+    for (glm::vec3* n : {&scene.normals[3 * i], &scene.normals[3 * i + 1], &scene.normals[3 * i + 2]}) *n = -*n;
+  }
+}
+
+TEST(PathTracer, WhiteFurnaceInsideAClosedEmitterIsOneEverywhere) {
+  Scene scene;
+  append_icosphere(scene, {0, 0, 0}, 1.0f, 3, add_material(scene, lambert(1.0f)));
+  const std::size_t enclosure = scene.triangle_count();
+  Material wall = lambert(0.5f);
+  wall.emissive_factor = glm::vec3(0.5f);  // L = 0.5 + 0.5 L  =>  L = 1
+  append_icosphere(scene, {0, 0, 0}, 4.0f, 3, add_material(scene, wall));
+  flip_winding(scene, enclosure);
+  const PinholeCamera cam = PinholeCamera::look_at({0, 0, 3}, {0, 0, 0}, {0, 1, 0}, 1.2f, 24, 24);
+  expect_radiance(render_path(scene, cam, 64), 1.0, "furnace");
+}
+
+TEST(PathTracer, WhiteSphereUnderAUniformEnvironmentIsOne) {
+  Scene scene;
+  append_icosphere(scene, {0, 0, 0}, 1.0f, 3, add_material(scene, lambert(1.0f)));
+  const Environment env(glm::vec3(1.0f));
+  const PinholeCamera cam = PinholeCamera::look_at({0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 0.6f, 24, 24);
+  expect_radiance(render_path(scene, cam, 32, &env), 1.0, "sphere in a uniform environment");
+}
+
+TEST(PathTracer, LambertianPlaneUnderAUniformSkyIsAlbedoTimesSky) {
+  Scene scene;
+  test::add_square_z(scene, 0, 0, 0, 1000.0f, true, add_material(scene, lambert(0.4f)));
+  const Environment sky(glm::vec3(2.5f));
+  const PinholeCamera cam = PinholeCamera::look_at({0, 0, 1}, {0, 0, 0}, {0, 1, 0}, 0.5f, 24, 24);
+  expect_radiance(render_path(scene, cam, 32, &sky), 0.4 * 2.5, "plane under the sky");
+}
+
+TEST(PathTracer, SmoothGlassSlabTransmitsItsFresnelTransmittance) {
+  Scene scene;
+  append_box(scene, {{-5, -5, -0.5f}, {5, 5, 0.5f}}, add_material(scene, test::glass_material(1.5f)));
+  test::add_square_z(scene, 0, 0, -3, 100.0f, true, add_material(scene, black_emitter(1.0f)));
+  const PinholeCamera cam = PinholeCamera::look_at({0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 0.02f, 16, 16);
+  const double R = 0.04;  // ((1.5 - 1) / (1.5 + 1))^2
+  expect_radiance(render_path(scene, cam, 256), (1.0 - R) / (1.0 + R), "glass slab");
+}
+
+TEST(PathTracer, PerfectMirrorReflectsSchlicksFresnel) {
+  Scene scene;
+  // A mirror in the plane y = -z (its normal (0, 1, 1) / sqrt 2), seen from +z: the camera
+  // rays turn to +y, onto an emitter facing down.
+  const std::uint32_t mirror = add_material(scene, test::mirror_material(glm::vec3(0.8f)));
+  append_quad(scene, {-50, -50, 50}, {50, -50, 50}, {50, 50, -50}, {-50, 50, -50}, mirror);
+  const std::uint32_t light = add_material(scene, black_emitter(1.0f));
+  append_quad(scene, {-100, 10, -100}, {100, 10, -100}, {100, 10, 100}, {-100, 10, 100}, light);  // facing -y
+  const PinholeCamera cam = PinholeCamera::look_at({0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 0.02f, 16, 16);
+  const double c = 0.8, cos45 = std::sqrt(0.5);
+  expect_radiance(render_path(scene, cam, 16), c + (1.0 - c) * std::pow(1.0 - cos45, 5.0), "mirror");
+}
+
+}  // namespace
+}  // namespace lancer

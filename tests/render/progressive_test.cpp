@@ -1,0 +1,159 @@
+// Progressive rendering (render_image with a RenderControl): the image after k passes is
+// the spp = k image, checkpoints hand it out on the way, and a stop flag or a time limit
+// end the render early with an image that averages what each pixel got.
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "accel/kd_tree.h"
+#include "render/renderer.h"
+#include "scene/load_scene.h"
+#include "test_paths.h"
+
+namespace lancer {
+namespace {
+
+const Scene& cornell() {
+  static const Scene scene = load_scene(test::scenes_dir() / "cornell-box-spheres.gltf");
+  return scene;
+}
+
+RenderSettings settings(int spp, int threads) {
+  RenderSettings s;
+  s.width = 24;
+  s.height = 20;
+  s.spp = spp;
+  s.threads = threads;
+  s.tile_size = 8;
+  s.seed = 3;
+  return s;
+}
+
+bool same_bits(const ImageRGB& a, const ImageRGB& b) {
+  return a.width == b.width && a.height == b.height &&
+         std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
+}
+
+ImageRGB render(const Accelerator& accel, const RenderSettings& s, RenderStats& stats, const ProgressCallback& p = {},
+                const RenderControl& c = {}) {
+  const PinholeCamera cam = PinholeCamera::from_desc(cornell().cameras.at(0), s.width, s.height);
+  return render_image(cornell(), accel, cam, s, stats, p, c);
+}
+
+TEST(Progressive, CheckpointAfterKPassesIsTheSppKImage) {
+  const KdTree kd(cornell().triangles);
+  std::vector<ImageRGB> checkpoints;
+  std::vector<int> passes;
+  RenderControl control;
+  control.checkpoint_s = 1e-9;  // after every pass but the last
+  control.on_checkpoint = [&](const ImageRGB& image, int k) {
+    checkpoints.push_back(image);
+    passes.push_back(k);
+  };
+  RenderStats stats;
+  const ImageRGB full = render(kd, settings(4, 2), stats, {}, control);
+  EXPECT_EQ(stats.passes, 4);
+  EXPECT_FALSE(stats.stopped);
+  EXPECT_EQ(stats.min_spp, 4u);
+  EXPECT_EQ(stats.max_spp, 4u);
+  ASSERT_EQ(passes, (std::vector<int>{1, 2, 3}));
+  for (int k = 1; k <= 3; ++k) {
+    RenderStats st;
+    EXPECT_TRUE(same_bits(checkpoints[static_cast<std::size_t>(k - 1)], render(kd, settings(k, 1), st)))
+        << "checkpoint after " << k << " passes";
+  }
+  RenderStats st;
+  EXPECT_TRUE(same_bits(full, render(kd, settings(4, 1), st)));
+}
+
+TEST(Progressive, StopFlagSetBeforeTheStartGivesABlackImageAtOnce) {
+  const KdTree kd(cornell().triangles);
+  std::atomic<int> stop{2};
+  RenderControl control;
+  control.stop = &stop;
+  RenderStats stats;
+  const ImageRGB image = render(kd, settings(8, 2), stats, {}, control);
+  EXPECT_TRUE(stats.stopped);
+  EXPECT_EQ(stats.passes, 0);
+  EXPECT_EQ(stats.max_spp, 0u);
+  for (float v : image.rgb) ASSERT_EQ(v, 0.0f);
+}
+
+// Stopped in the middle of pass 3 (after a fixed number of tiles, one thread): every pixel
+// is exactly the spp = 2 or the spp = 3 image's pixel, and both kinds occur.
+TEST(Progressive, StopMidPassAveragesWhatEachPixelGot) {
+  const KdTree kd(cornell().triangles);
+  std::atomic<int> stop{0};
+  RenderControl control;
+  control.stop = &stop;
+  const std::size_t tiles = 3 * 3;  // 24 x 20 in 8 x 8 tiles
+  RenderStats stats;
+  const ImageRGB image = render(
+      kd, settings(6, 1), stats,
+      [&](std::size_t done, std::size_t) {
+        if (done == 2 * tiles + 4) stop.store(2);
+      },
+      control);
+  EXPECT_TRUE(stats.stopped);
+  EXPECT_EQ(stats.passes, 2);
+  EXPECT_EQ(stats.min_spp, 2u);
+  EXPECT_EQ(stats.max_spp, 3u);
+  RenderStats s2, s3;
+  const ImageRGB two = render(kd, settings(2, 1), s2), three = render(kd, settings(3, 1), s3);
+  int from_two = 0, from_three = 0;
+  for (std::size_t i = 0; i < image.rgb.size(); i += 3) {
+    const bool is_two = std::memcmp(&image.rgb[i], &two.rgb[i], 3 * sizeof(float)) == 0;
+    const bool is_three = std::memcmp(&image.rgb[i], &three.rgb[i], 3 * sizeof(float)) == 0;
+    ASSERT_TRUE(is_two || is_three) << "pixel " << i / 3;
+    from_two += is_two && !is_three;
+    from_three += is_three && !is_two;
+  }
+  EXPECT_GT(from_two, 0);
+  EXPECT_GT(from_three, 0);
+}
+
+// A stop from another thread while a long render runs: it returns promptly with a finite
+// image. (The bound is generous; it checks "promptly", not speed.)
+TEST(Progressive, StopFromAnotherThreadEndsALongRenderPromptly) {
+  const KdTree kd(cornell().triangles);
+  std::atomic<int> stop{0};
+  RenderControl control;
+  control.stop = &stop;
+  std::chrono::steady_clock::time_point stopped_at;
+  std::thread stopper([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));
+    stopped_at = std::chrono::steady_clock::now();
+    stop.store(2);
+  });
+  RenderStats stats;
+  const ImageRGB image = render(kd, settings(1 << 20, 2), stats, {}, control);
+  const double after_stop = std::chrono::duration<double>(std::chrono::steady_clock::now() - stopped_at).count();
+  stopper.join();
+  EXPECT_TRUE(stats.stopped);
+  EXPECT_LT(after_stop, 1.0) << "seconds from the stop flag to the return";
+  EXPECT_GE(stats.max_spp, 1u);
+  for (float v : image.rgb) ASSERT_TRUE(std::isfinite(v));
+}
+
+TEST(Progressive, TimeLimitEndsTheRender) {
+  const KdTree kd(cornell().triangles);
+  RenderControl control;
+  control.time_limit_s = 0.3;
+  RenderStats stats;
+  const auto t0 = std::chrono::steady_clock::now();
+  render(kd, settings(1 << 20, 2), stats, {}, control);
+  const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_TRUE(stats.stopped);
+  EXPECT_GE(took, 0.3);
+  EXPECT_LT(took, 5.0);
+  EXPECT_GE(stats.passes, 1);
+}
+
+}  // namespace
+}  // namespace lancer

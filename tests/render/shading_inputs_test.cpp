@@ -1,0 +1,243 @@
+// evaluate_shading on hand-built scenes: normal maps on a flat quad with file and
+// generated tangents of both handednesses, the back side, the viewer-side rule, agreement
+// with make_surface_point, and alpha modes. The glTF end-to-end test is in
+// shading_inputs_gltf_test.cpp.
+#include "render/shading_inputs.h"
+
+#include <array>
+#include <string>
+
+#include <glm/geometric.hpp>
+#include <glm/gtc/type_precision.hpp>
+#include <gtest/gtest.h>
+
+#include "accel/brute_force.h"
+#include "render/normal_mapping.h"
+#include "render/surface.h"
+#include "render/texture.h"
+#include "render_test_scenes.h"
+#include "scene/scene_builder.h"
+
+namespace lancer {
+namespace {
+
+using test::ray_from;
+
+void expect_vec_near(const glm::vec3& a, const glm::vec3& b, float tol, const std::string& what) {
+  EXPECT_NEAR(a.x, b.x, tol) << what;
+  EXPECT_NEAR(a.y, b.y, tol) << what;
+  EXPECT_NEAR(a.z, b.z, tol) << what;
+}
+
+ShadingInputs shade(const Scene& scene, const Ray& ray) {
+  const BruteForce accel(scene.triangles);
+  const Hit hit = accel.intersect(ray);
+  EXPECT_TRUE(hit.valid());
+  return evaluate_shading(scene, ray, hit);
+}
+
+// UVs as a function of the position on the unit quad.
+using UvMap = glm::vec2 (*)(const glm::vec3&);
+glm::vec2 upright(const glm::vec3& p) { return {p.x, 1.0f - p.y}; }  // image top at +y
+glm::vec2 mirrored_u(const glm::vec3& p) { return {1.0f - p.x, 1.0f - p.y}; }
+glm::vec2 upside_down(const glm::vec3& p) { return {p.x, p.y}; }
+
+// The unit quad [0,1]^2 in z = 0, front +z, normals +z, UVs from `uv_of`, optional file
+// tangent on every corner, and a 1x1 normal map holding `texel`.
+Scene normal_mapped_quad(UvMap uv_of, const glm::vec4* tangent, glm::u8vec3 texel, float scale = 1.0f) {
+  Scene scene;
+  Image image;
+  image.width = image.height = 1;
+  image.channels = 3;
+  image.pixels = {texel.r, texel.g, texel.b};
+  scene.images.push_back(image);
+  Texture texture;
+  texture.image = 0;
+  texture.mag_filter = kFilterNearest;
+  scene.textures.push_back(texture);
+  Material m = test::diffuse_material(glm::vec3(0.5f));
+  m.normal_texture.texture = 0;
+  m.normal_texture.scale = scale;
+  scene.materials.push_back(m);
+
+  const glm::vec3 a(0, 0, 0), b(1, 0, 0), c(1, 1, 0), d(0, 1, 0);
+  SceneBuilder builder(scene, "quad");
+  for (const auto& tri : {std::array<glm::vec3, 3>{a, b, c}, std::array<glm::vec3, 3>{a, c, d}}) {
+    const glm::vec3 normals[3] = {{0, 0, 1}, {0, 0, 1}, {0, 0, 1}};
+    const glm::vec2 uv[3] = {uv_of(tri[0]), uv_of(tri[1]), uv_of(tri[2])};
+    glm::vec4 tangents[3];
+    CornerAttributes attribs;
+    attribs.normals = normals;
+    attribs.texcoords = uv;
+    if (tangent) {
+      for (glm::vec4& t : tangents) t = *tangent;
+      attribs.tangents = tangents;
+    }
+    builder.add_triangle(tri.data(), 0, 0, attribs);
+  }
+  return scene;
+}
+
+// The normal the spec's formula gives for `texel` in the frame (T, B, +z).
+glm::vec3 expected_normal(glm::u8vec3 texel, float scale, const glm::vec3& t, const glm::vec3& b) {
+  const glm::vec3 tn = (2.0f * glm::vec3(texel) / 255.0f - 1.0f) * glm::vec3(scale, scale, 1.0f);
+  return glm::normalize(tn.x * t + tn.y * b + tn.z * glm::vec3(0, 0, 1));
+}
+
+// A texel leaning to tangent-space +X and -Y: (0.6, -0.4, 0.69) before normalising.
+constexpr glm::u8vec3 kTiltedTexel(204, 77, 215);
+
+struct FrameCase {
+  const char* name;
+  UvMap uv_of;
+  bool file_tangent;
+  glm::vec4 tangent;  // when file_tangent
+  glm::vec3 t, b;     // the frame the normal map must use
+};
+
+TEST(ShadingNormalMap, TiltsTheNormalTheWayTheFrameSays) {
+  const FrameCase cases[] = {
+      {"generated, upright image", upright, false, {}, {1, 0, 0}, {0, 1, 0}},
+      {"generated, mirrored u", mirrored_u, false, {}, {-1, 0, 0}, {0, 1, 0}},
+      {"generated, upside-down image", upside_down, false, {}, {1, 0, 0}, {0, -1, 0}},
+      {"file tangent +x, w = +1", upright, true, {1, 0, 0, 1}, {1, 0, 0}, {0, 1, 0}},
+      {"file tangent +x, w = -1", upright, true, {1, 0, 0, -1}, {1, 0, 0}, {0, -1, 0}},
+      {"file tangent +y, w = +1", upright, true, {0, 1, 0, 1}, {0, 1, 0}, {-1, 0, 0}},
+  };
+  for (const FrameCase& c : cases) {
+    const Scene scene = normal_mapped_quad(c.uv_of, c.file_tangent ? &c.tangent : nullptr, kTiltedTexel);
+    for (const glm::vec3 at : {glm::vec3(0.3f, 0.6f, 0), glm::vec3(0.8f, 0.1f, 0)}) {  // both triangles
+      const ShadingInputs si = shade(scene, ray_from(at + glm::vec3(0, 0, 2), {0, 0, -1}));
+      const glm::vec3 expected = expected_normal(kTiltedTexel, 1.0f, c.t, c.b);
+      expect_vec_near(si.ns, expected, 1e-6f, c.name);
+      // The direction in words: X leans along T, -Y along -B.
+      EXPECT_GT(glm::dot(si.ns, c.t), 0.5f) << c.name;
+      EXPECT_LT(glm::dot(si.ns, c.b), -0.3f) << c.name;
+      EXPECT_EQ(si.ng, glm::vec3(0, 0, 1)) << c.name;
+      EXPECT_NEAR(glm::length(si.tangent), 1.0f, 1e-6f) << c.name;
+      EXPECT_NEAR(glm::dot(si.tangent, si.ns), 0.0f, 1e-6f) << c.name;
+      EXPECT_GT(glm::dot(si.tangent, c.t), 0.5f) << c.name << ": the BSDF frame keeps T's direction";
+    }
+  }
+}
+
+TEST(ShadingNormalMap, ScaleShrinksTheTilt) {
+  const Scene scene = normal_mapped_quad(upright, nullptr, kTiltedTexel, 0.25f);
+  const ShadingInputs si = shade(scene, ray_from({0.3f, 0.6f, 2}, {0, 0, -1}));
+  expect_vec_near(si.ns, expected_normal(kTiltedTexel, 0.25f, {1, 0, 0}, {0, 1, 0}), 1e-6f, "scale 0.25");
+}
+
+TEST(ShadingNormalMap, BackSideFlipsTheMappedNormal) {
+  const Scene scene = normal_mapped_quad(upright, nullptr, kTiltedTexel);
+  const ShadingInputs si = shade(scene, ray_from({0.3f, 0.6f, -2}, {0, 0, 1}));
+  EXPECT_FALSE(si.front_face);
+  EXPECT_EQ(si.ng, glm::vec3(0, 0, -1));
+  expect_vec_near(si.ns, -expected_normal(kTiltedTexel, 1.0f, {1, 0, 0}, {0, 1, 0}), 1e-6f, "back side");
+}
+
+TEST(ShadingNormalMap, NormalHidingTheViewerIsBentBack) {
+  // Tangent space (1, 0, 0.1): the mapped normal lies almost along +x.
+  const glm::u8vec3 texel(255, 128, 140);
+  const Scene scene = normal_mapped_quad(upright, nullptr, texel);
+  const glm::vec3 origin(-1.0f, 0.5f, 0.2f), target(0.5f, 0.5f, 0.0f);
+  const glm::vec3 dir = glm::normalize(target - origin);  // low, from the -x side
+  const glm::vec3 wo = -dir;
+  const glm::vec3 mapped = expected_normal(texel, 1.0f, {1, 0, 0}, {0, 1, 0});
+  ASSERT_LT(glm::dot(mapped, wo), 0.0f) << "the test needs a normal that hides the viewer";
+  const ShadingInputs si = shade(scene, ray_from(origin, dir));
+  EXPECT_NEAR(glm::length(si.ns), 1.0f, 1e-6f);
+  EXPECT_NEAR(glm::dot(si.ns, wo), kMinShadingCosine, 1e-5f);
+  EXPECT_GT(glm::dot(si.ns, si.ng), 0.0f);
+  EXPECT_NEAR(glm::dot(glm::cross(mapped, wo), si.ns), 0.0f, 1e-5f) << "bent within the plane of ns and wo";
+  // The same normal seen from above is left alone.
+  const ShadingInputs above = shade(scene, ray_from({0.5f, 0.5f, 2}, {0, 0, -1}));
+  expect_vec_near(above.ns, mapped, 1e-6f, "viewer above");
+}
+
+TEST(ShadingInputs, WithoutANormalMapTheGeometryIsMakeSurfacePoints) {
+  Scene scene;
+  scene.materials.push_back(test::diffuse_material(glm::vec3(0.5f)));
+  const glm::vec3 p[3] = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}};
+  const glm::vec3 normals[3] = {glm::normalize(glm::vec3(-0.3f, 0, 1)), glm::normalize(glm::vec3(0.3f, 0.2f, 1)),
+                                glm::normalize(glm::vec3(0, -0.4f, 1))};
+  CornerAttributes attribs;
+  attribs.normals = normals;
+  SceneBuilder(scene, "tri").add_triangle(p, 0, 0, attribs);
+  const glm::vec3 flat_p[3] = {{0, 0, 1}, {2, 0, 1}, {0, 2, 1}};
+  SceneBuilder(scene, "tri").add_triangle(flat_p, 0, 1);  // no normals: the geometric normal
+  const BruteForce accel(scene.triangles);
+  for (const Ray& ray : {ray_from({0.5f, 0.3f, 3}, {0, 0, -1}), ray_from({0.5f, 0.3f, -3}, {0.05f, 0.02f, 1}),
+                         ray_from({0.7f, 0.6f, 0.5f}, {0, 0, -1})}) {
+    const Hit hit = accel.intersect(ray);
+    ASSERT_TRUE(hit.valid());
+    const SurfacePoint sp = make_surface_point(scene, ray, hit);
+    const ShadingInputs si = evaluate_shading(scene, ray, hit);
+    EXPECT_EQ(si.p, sp.p);
+    EXPECT_EQ(si.ng, sp.ng);
+    EXPECT_EQ(si.ns, sp.ns);
+    EXPECT_EQ(si.front_face, sp.front_face);
+    EXPECT_EQ(si.material, sp.material);
+    EXPECT_EQ(si.base_color, sp.base_color);
+    EXPECT_NEAR(glm::dot(si.tangent, si.ns), 0.0f, 1e-6f);
+    EXPECT_NEAR(glm::length(si.tangent), 1.0f, 1e-6f);
+  }
+  const Ray down = ray_from({0.3f, 0.3f, 3}, {0, 0, -1});
+  const ShadingInputs flat = shade(scene, down);
+  EXPECT_EQ(flat.p.z, 1.0f);
+  EXPECT_EQ(flat.ns, flat.ng) << "a primitive without normals shades with the geometric normal";
+  EXPECT_EQ(flat.ng, glm::vec3(0, 0, 1));
+}
+
+TEST(ShadingInputs, AlphaFollowsTheAlphaMode) {
+  Scene scene;
+  const glm::vec3 p[3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  Material m = test::diffuse_material(glm::vec3(1.0f));
+  m.base_color.a = 0.4f;
+  scene.materials.push_back(m);
+  SceneBuilder(scene, "tri").add_triangle(p, 0, 0);
+  const Ray ray = ray_from({0.2f, 0.2f, 1}, {0, 0, -1});
+  EXPECT_EQ(shade(scene, ray).alpha, 1.0f) << "OPAQUE ignores alpha";
+  scene.materials[0].alpha_mode = AlphaMode::Blend;
+  EXPECT_EQ(shade(scene, ray).alpha, 0.4f);
+  scene.materials[0].alpha_mode = AlphaMode::Mask;
+  EXPECT_EQ(shade(scene, ray).alpha, 0.0f) << "0.4 < cutoff 0.5";
+  scene.materials[0].alpha_cutoff = 0.4f;
+  EXPECT_EQ(shade(scene, ray).alpha, 1.0f) << "alpha >= cutoff is opaque";
+}
+
+TEST(ShadingInputs, UntexturedMaterialPassesItsFactorsThrough) {
+  Scene scene;
+  const glm::vec3 p[3] = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  Material m;
+  m.base_color = {0.1f, 0.2f, 0.3f, 1.0f};
+  m.metallic = 0.25f;
+  m.roughness = 0.75f;
+  m.emissive_factor = {1.0f, 0.5f, 0.0f};
+  m.emissive_strength = 3.0f;
+  m.ior = 1.33f;
+  m.specular = 0.5f;
+  m.specular_color = {0.9f, 0.8f, 0.7f};
+  m.transmission = 0.6f;
+  m.thickness = 0.02f;
+  m.attenuation_distance = 4.0f;
+  m.attenuation_color = {0.5f, 0.6f, 0.7f};
+  scene.materials.push_back(m);
+  SceneBuilder(scene, "tri").add_triangle(p, 0, 0);
+  const ShadingInputs si = shade(scene, ray_from({0.2f, 0.2f, 1}, {0, 0, -1}));
+  EXPECT_EQ(si.base_color, glm::vec3(0.1f, 0.2f, 0.3f));
+  EXPECT_EQ(si.metallic, 0.25f);
+  EXPECT_EQ(si.roughness, 0.75f);
+  EXPECT_EQ(si.emission, glm::vec3(3.0f, 1.5f, 0.0f));
+  EXPECT_EQ(si.ior, 1.33f);
+  EXPECT_EQ(si.specular, 0.5f);
+  EXPECT_EQ(si.specular_color, glm::vec3(0.9f, 0.8f, 0.7f));
+  EXPECT_EQ(si.transmission, 0.6f);
+  EXPECT_EQ(si.thickness, 0.02f);
+  EXPECT_EQ(si.attenuation_distance, 4.0f);
+  EXPECT_EQ(si.attenuation_color, glm::vec3(0.5f, 0.6f, 0.7f));
+  EXPECT_EQ(si.uv0, glm::vec2(0.0f)) << "no TEXCOORD_0";
+  EXPECT_EQ(si.uv1, glm::vec2(0.0f));
+}
+
+}  // namespace
+}  // namespace lancer

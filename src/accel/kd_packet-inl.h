@@ -291,7 +291,7 @@ inline bool same_origin(const PacketRays& p, std::uint64_t mask) {
 // Ray i against the N slots from `slot` (one vector test; lanes past the leaf's end are
 // NaN padding), with the single-ray kernel's test (test_lanes).
 template <int N, int B>
-inline void ray_vs_slots(const KdTreeView& tree, const Ray* rays, PacketRays& p, int i, std::uint32_t slot,
+__attribute__((always_inline)) inline void ray_vs_slots(const KdTreeView& tree, const Ray* rays, PacketRays& p, int i, std::uint32_t slot,
                          const std::uint32_t rows[3]) {
   kd::LeafRay<N> lr;
   lr.ox = vfloat<N>(p.sorg[0][i]), lr.oy = vfloat<N>(p.sorg[1][i]), lr.oz = vfloat<N>(p.sorg[2][i]);
@@ -342,10 +342,12 @@ inline void leaf_by_ray(const KdTreeView& tree, const Ray* rays, PacketRays& p, 
 // packet's frustum culls first; then per vector of rays, the cheaper of its live rays one
 // by one against the N triangles (one vector test each) or the surviving triangles
 // broadcast to its lanes (their a - org computed once, the same floats every lane would
-// compute). Measured on the bunny's camera tiles (AVX-512, one thread), against testing
-// every triangle with no cull and the choice by triangle count: 23 -> 20 ns/ray at
-// 1024 x 1024, no loss at 256 x 256; culling per vector of 16 rays as well cost more than
-// it saved.
+// compute). Measured on the bunny's camera tiles (AVX-512, one thread, CPU time, best of
+// 20), against no cull and the choice by triangle count: 23 -> 20 ns/ray at 1024 x 1024,
+// 44 -> 46 ns/ray at 256 x 256 (wide packets cull less). Skipping the cull where little
+// work is at stake did not win the 256 x 256 cost back; culling per vector of 16 rays as
+// well cost more than it saved; test_triangle and ray_vs_slots must be inlined (not
+// inlined: 10 % slower).
 template <int N, int B>
 inline void leaf_shared_origin(const KdTreeView& tree, const Ray* rays, PacketRays& p, const Frustum& f,
                                std::uint64_t active, int nvec, std::uint32_t begin, std::uint32_t end,

@@ -54,3 +54,15 @@ clean:
 bench: configure
 	cmake --build $(BUILD) -j $(JOBS) --target lancer lancer-bench
 	$(LANCER) bench $(BENCH_ARGS)
+
+# The README gallery (docs/images/), rendered by the path tracer at a fixed sample count, so
+# the images are the same on any machine and thread count. About 2 CPU-minutes per image.
+.PHONY: gallery
+GALLERY_SPP ?= 128
+GALLERY_RENDER = $(LANCER) render --spp $(GALLERY_SPP) --filter gaussian --no-progress
+gallery: configure
+	cmake --build $(BUILD) -j $(JOBS) --target lancer
+	$(GALLERY_RENDER) scenes/cornell-box.gltf -o docs/images/cornell-box.png
+	$(GALLERY_RENDER) scenes/cornell-box-spheres.gltf -o docs/images/cornell-box-spheres.png
+	$(GALLERY_RENDER) scenes/textured/still-life.gltf -o docs/images/still-life.png
+	$(GALLERY_RENDER) scenes/cornell-box-dof.gltf -o docs/images/cornell-box-dof.png

@@ -1,0 +1,67 @@
+// lancer-spd-scaling: build time, kd-tree memory and primary Mrays/s of Haines' SPD scenes
+// from 10^4 to 10^7 triangles (issue 5's scaling plot; docs/performance.md). Exit codes: 0
+// done (points skipped for lack of memory are reported, not failures), 1 a point failed or
+// an output file could not be written, 2 bad options.
+#include <exception>
+#include <iostream>
+#include <new>
+#include <sstream>
+
+#include "report_json.h"
+#include "scaling_options.h"
+#include "scaling_points.h"
+#include "scaling_report.h"
+
+namespace {
+
+using namespace lancer::bench;
+
+int run(int argc, char** argv) {
+  int code = 0;
+  const auto options = parse_scaling_options(argc, argv, std::cout, std::cerr, code);
+  if (!options) return code;
+  const std::vector<ScalingPoint> points =
+      choose_scaling_points(options->generators, options->first_decade, options->last_decade, options->max_triangles);
+  if (options->list) {
+    for (const ScalingPoint& p : points) std::cout << p.name() << "\t" << p.triangles << "\n";
+    return 0;
+  }
+  std::vector<ScalingResult> results;
+  int status = 0;
+  for (const ScalingPoint& p : points) {
+    // Checked before each point: other programs on a shared machine come and go.
+    const std::int64_t available = available_memory_bytes();
+    results.push_back(measure_scaling_point(p, options->settings, available, std::cerr));
+    if (!results.back().failure.empty() && !results.back().skipped) status = 1;
+  }
+  std::ostringstream table;
+  write_scaling_markdown(results, options->settings, table);
+  std::cout << table.str() << std::flush;
+  try {
+    if (!options->markdown.empty()) {
+      write_text_file(options->markdown, table.str());
+      std::cerr << "lancer-spd-scaling: wrote " << options->markdown << "\n";
+    }
+    if (!options->plot.empty()) {
+      write_text_file(options->plot, scaling_svg(results, options->settings));
+      std::cerr << "lancer-spd-scaling: wrote " << options->plot << "\n";
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "lancer-spd-scaling: error: " << e.what() << "\n";
+    status = 1;
+  }
+  return status;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::bad_alloc&) {
+    std::cerr << "lancer-spd-scaling: error: out of memory\n";
+  } catch (const std::exception& e) {
+    std::cerr << "lancer-spd-scaling: error: " << e.what() << "\n";
+  }
+  return 1;
+}

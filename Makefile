@@ -33,10 +33,15 @@ bench-micro: build
 bench-embree: build
 	$(BUILD)/bench/lancer_bench_embree $(BENCH_FLAGS)
 
+# The whole suite under AddressSanitizer + UndefinedBehaviorSanitizer, less the tests named
+# *Heavy*: they repeat code paths the suite already runs, at a scale (tens of millions of
+# rays, a 600,000-triangle build) that the sanitizers make too slow for CI. `make test`
+# runs them; SANITIZE_EXCLUDE= runs everything.
+SANITIZE_EXCLUDE ?= Heavy
 test-sanitize: deps
 	cmake --preset sanitize >/dev/null
 	cmake --build build/sanitize -j $(JOBS)
-	ctest --test-dir build/sanitize -j $(JOBS) --output-on-failure
+	ctest --test-dir build/sanitize -j $(JOBS) --output-on-failure $(if $(SANITIZE_EXCLUDE),-E '$(SANITIZE_EXCLUDE)')
 
 # libFuzzer on every reader, under ASan + UBSan, with clang (tests/fuzz/README.md).
 # Fails when any target finds a crash; the input is kept in build/fuzz/fuzz-findings.

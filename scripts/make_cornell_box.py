@@ -255,6 +255,9 @@ def materials(with_spheres):
             "extensions": {
                 "KHR_materials_transmission": {"transmissionFactor": 1.0},
                 "KHR_materials_ior": {"ior": 1.5},
+                # A solid sphere: a volume boundary (refraction), not a thin wall. The factor is
+                # the sphere's diameter, the thickness KHR_materials_volume asks for.
+                "KHR_materials_volume": {"thicknessFactor": 2 * SPHERE_RADIUS_M},
             },
         })
     return result

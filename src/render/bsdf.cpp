@@ -69,10 +69,17 @@ Bsdf::Bsdf(const BsdfInputs& in, const ShadingFrame& frame, bool entering)
       fresnel_(in.ior, in.specular_color,
                unit_clamp(in.transmission) > 0.0f ? DielectricFresnel::Form::Exact : DielectricFresnel::Form::Schlick),
       eta_(1.0f),
-      entering_(entering) {
+      fresnel_eta_(1.0f),
+      entering_(entering),
+      thin_walled_(in.thin_walled) {
   // dielectric_f0 < 1 exactly when ior is a usable index of refraction.
   const bool can_refract = fresnel_.f0_ior() < 1.0f;
-  if (can_refract) eta_ = entering ? in.ior : 1.0f / in.ior;
+  if (can_refract) {
+    // A thin wall has air on both sides: light meets the index ior from either side, and
+    // leaves into air again, unbent.
+    fresnel_eta_ = thin_walled_ || entering ? in.ior : 1.0f / in.ior;
+    eta_ = thin_walled_ ? 1.0f : fresnel_eta_;
+  }
   const float dielectric = 1.0f - metallic_;
   const bool dielectric_reflects =
       dielectric * specular_ > 0.0f &&
@@ -80,8 +87,9 @@ Bsdf::Bsdf(const BsdfInputs& in, const ShadingFrame& frame, bool entering)
   const bool tinted = max_component(base_color_) > 0.0f;
   has_reflection_ = metallic_ > 0.0f || dielectric_reflects;
   has_diffuse_ = dielectric * (1.0f - transmission_) > 0.0f && tinted;
-  has_transmission_ = can_refract && dielectric * transmission_ > 0.0f && tinted;
-  smooth_transmission_ = ggx_.smooth() || std::abs(eta_ - 1.0f) < kIndexMatched;
+  has_transmission_ = (can_refract || thin_walled_) && dielectric * transmission_ > 0.0f && tinted;
+  // The thin-walled lobe is the reflection lobe mirrored: exactly as smooth as it.
+  smooth_transmission_ = ggx_.smooth() || (!thin_walled_ && std::abs(eta_ - 1.0f) < kIndexMatched);
   split_at_normal_ = ggx_.smooth() || (has_transmission_ && smooth_transmission_);
 }
 
@@ -118,11 +126,10 @@ bool Bsdf::to_oriented_local(const glm::vec3& wo, const glm::vec3& wi, glm::vec3
 
 Bsdf::InterfaceSplit Bsdf::interface_split(const glm::vec3& wo, const glm::vec3& m) const {
   const float cos_wo_m = glm::dot(wo, m);
-  const glm::vec3 fr = fresnel_.reflectance(cos_wo_m, eta_);
+  const glm::vec3 fr = fresnel_.reflectance(cos_wo_m, fresnel_eta_);
   const float r = has_reflection_ ? average(specular_tint(cos_wo_m, fr)) : 0.0f;
-  const float t = has_transmission_ && refract_about(wo, m, eta_)
-                      ? base_weight(fr) * transmission_ * average(base_color_)
-                      : 0.0f;
+  const bool passes = thin_walled_ || refract_about(wo, m, eta_).has_value();  // no TIR on a thin wall
+  const float t = has_transmission_ && passes ? base_weight(fr) * transmission_ * average(base_color_) : 0.0f;
   const float sum = r + t;
   if (!(sum > 0.0f)) return {};
   return {r / sum, t / sum};
@@ -130,11 +137,12 @@ Bsdf::InterfaceSplit Bsdf::interface_split(const glm::vec3& wo, const glm::vec3&
 
 Bsdf::LobeChoice Bsdf::choose_lobes(const glm::vec3& wo) const {
   // Albedo estimates with the facet normal replaced by n: exact for the delta lobes.
-  const glm::vec3 fr = fresnel_.reflectance(wo.z, eta_);
+  const glm::vec3 fr = fresnel_.reflectance(wo.z, fresnel_eta_);
   const float base = base_weight(fr) * average(base_color_);
   float interface = 0.0f, diffuse = 0.0f;
   if (has_reflection_) interface += average(specular_tint(wo.z, fr));
-  if (has_transmission_ && (!smooth_transmission_ || refract_about(wo, glm::vec3(0.0f, 0.0f, 1.0f), eta_)))
+  if (has_transmission_ &&
+      (thin_walled_ || !smooth_transmission_ || refract_about(wo, glm::vec3(0.0f, 0.0f, 1.0f), eta_)))
     interface += base * transmission_;
   const bool rough_interface = (has_reflection_ && !ggx_.smooth()) || (has_transmission_ && !smooth_transmission_);
   if (rough_interface) interface = std::max(interface, kMinLobeEstimate);
@@ -150,12 +158,20 @@ glm::vec3 Bsdf::eval_local(const glm::vec3& wo, const glm::vec3& wi) const {
     if (!has_diffuse_ && !(has_reflection_ && !ggx_.smooth())) return f;
     const glm::vec3 h = glm::normalize(wo + wi);
     const float cos_wo_h = glm::dot(wo, h);
-    const glm::vec3 fr = fresnel_.reflectance(cos_wo_h, eta_);
+    const glm::vec3 fr = fresnel_.reflectance(cos_wo_h, fresnel_eta_);
     if (has_reflection_ && !ggx_.smooth()) {
       // specular_brdf * cos(wi) = D G2 / (4 |n.wo|)
       f += specular_tint(cos_wo_h, fr) * (ggx_.d(h) * ggx_.g2(wo, wi) / (4.0f * wo.z));
     }
     if (has_diffuse_) f += (base_weight(fr) * (1.0f - transmission_) * kInvPi * wi.z) * base_color_;
+  } else if (wi.z < 0.0f && has_transmission_ && !smooth_transmission_ && thin_walled_) {
+    // KHR_materials_transmission's thin BTDF: specular_brdf with wi mirrored through the
+    // tangent plane, H_T = normalize(wo + mirror(wi)); times |cos(wi)| = D G2 / (4 |n.wo|).
+    const glm::vec3 wr = mirror_z(wi);
+    const glm::vec3 h = glm::normalize(wo + wr);
+    const glm::vec3 fr = fresnel_.reflectance(glm::dot(wo, h), fresnel_eta_);
+    const float btdf_cos = ggx_.d(h) * ggx_.g2(wo, wr) / (4.0f * wo.z);
+    f += (base_weight(fr) * transmission_ * btdf_cos) * base_color_;
   } else if (wi.z < 0.0f && has_transmission_ && !smooth_transmission_) {
     const auto h = refraction_half_vector(wo, wi, eta_);
     if (!h) return f;
@@ -165,7 +181,7 @@ glm::vec3 Bsdf::eval_local(const glm::vec3& wo, const glm::vec3& wi) const {
     // Walter et al. 2007, eq. 21 without F, times |cos(wi)|.
     const float btdf_cos =
         eta_ * eta_ * cos_o * std::abs(cos_i) * ggx_.d(*h) * ggx_.g2(wo, wi) / (wo.z * denom * denom);
-    const glm::vec3 fr = fresnel_.reflectance(cos_o, eta_);
+    const glm::vec3 fr = fresnel_.reflectance(cos_o, fresnel_eta_);
     f += (base_weight(fr) * transmission_ * btdf_cos) * base_color_;
   }
   return f;
@@ -183,6 +199,10 @@ float Bsdf::pdf_local(const glm::vec3& wo, const glm::vec3& wi, const LobeChoice
       p += lobes.interface * reflect * ggx_.g1(wo) * ggx_.d(h) / (4.0f * wo.z);
     }
     if (lobes.diffuse > 0.0f) p += lobes.diffuse * kInvPi * wi.z;
+  } else if (wi.z < 0.0f && lobes.interface > 0.0f && has_transmission_ && !smooth_transmission_ && thin_walled_) {
+    // The reflection density of the mirrored direction (mirroring preserves solid angle).
+    const glm::vec3 h = glm::normalize(wo + mirror_z(wi));
+    p += lobes.interface * interface_split(wo, h).refract * ggx_.g1(wo) * ggx_.d(h) / (4.0f * wo.z);
   } else if (wi.z < 0.0f && lobes.interface > 0.0f && has_transmission_ && !smooth_transmission_) {
     if (const auto h = refraction_half_vector(wo, wi, eta_)) {
       const float cos_i = glm::dot(wi, *h);
@@ -227,16 +247,18 @@ std::optional<BsdfSample> Bsdf::sample(const glm::vec3& wo, float u_lobe, glm::v
       if (u_split < split.reflect) {
         if (ggx_.smooth()) {
           const float p = lobes.interface * split.reflect;
-          const glm::vec3 throughput = specular_tint(lo.z, fresnel_.reflectance(lo.z, eta_));
+          const glm::vec3 throughput = specular_tint(lo.z, fresnel_.reflectance(lo.z, fresnel_eta_));
           return BsdfSample{to_world(glm::vec3(-lo.x, -lo.y, lo.z)), throughput / p, p, true, false};
         }
         wi = reflect_about(lo, ggx_.sample_visible(lo, u));
         if (!(wi.z > 0.0f)) return std::nullopt;  // reflected below the surface
-      } else if (split.refract > 0.0f) {  // a delta refraction: smooth or index-matched
-        const auto refracted = refract_about(lo, n, eta_);
+      } else if (split.refract > 0.0f) {  // a delta refraction: smooth, index-matched or thin
+        // Through a thin wall the direction is kept: wo mirrored, then mirrored through the plane.
+        const auto refracted = thin_walled_ ? std::optional<glm::vec3>(-lo) : refract_about(lo, n, eta_);
         if (!refracted) return std::nullopt;
         const float p = lobes.interface * split.refract;
-        const glm::vec3 throughput = (base_weight(fresnel_.reflectance(lo.z, eta_)) * transmission_) * base_color_;
+        const glm::vec3 fr = fresnel_.reflectance(lo.z, fresnel_eta_);
+        const glm::vec3 throughput = (base_weight(fr) * transmission_) * base_color_;
         return BsdfSample{to_world(*refracted), throughput / p, p, true, true};
       } else {
         return std::nullopt;
@@ -247,6 +269,9 @@ std::optional<BsdfSample> Bsdf::sample(const glm::vec3& wo, float u_lobe, glm::v
       if (u_split < split.reflect) {
         wi = reflect_about(lo, m);
         if (!(wi.z > 0.0f)) return std::nullopt;  // reflected below the surface
+      } else if (split.refract > 0.0f && thin_walled_) {
+        wi = mirror_z(reflect_about(lo, m));
+        if (!(wi.z < 0.0f)) return std::nullopt;  // its mirror image reflected below the surface
       } else if (split.refract > 0.0f) {
         const auto refracted = refract_about(lo, m, eta_);
         if (!refracted || !(refracted->z < 0.0f)) return std::nullopt;  // refracted back up

@@ -1,5 +1,5 @@
-// The glTF 2.0 metallic-roughness BSDF with KHR_materials_ior, KHR_materials_specular and
-// KHR_materials_transmission, for the path tracer.
+// The glTF 2.0 metallic-roughness BSDF with KHR_materials_ior, KHR_materials_specular,
+// KHR_materials_transmission and KHR_materials_volume's thin / volume switch, for the path tracer.
 //
 // The model, glTF 2.0 spec Appendix B.2 / B.3.5 plus the extensions (each line names its source):
 //   material   = mix(dielectric, metal, metallic)                               (B.2)
@@ -11,44 +11,58 @@
 //   fr         = f0 + (1 - f0) w,  f0 = min(((ior - 1)/(ior + 1))^2 specularColor, 1)  (KHR_materials_ior/specular)
 // - specular_brdf = D G2 / (4 |n.l| |n.v|), GGX D with alpha = roughness^2 (B.3.2); G2 is the
 //   height-correlated Smith form (see microfacet.h; the spec text shows the separable one).
-// - w is Schlick's (1 - |V.H|)^5 (B.3.4) for opaque materials. For refractive ones
-//   (transmission > 0) it is the exact dielectric Fresnel curve rescaled to [0, 1]
-//   (fresnel.h), so that total internal reflection exists and a smooth interface reflects F
-//   and transmits exactly 1 - F.
-// - specular_btdf: the rough dielectric refraction of Walter, Marschner, Li & Torrance 2007,
-//   "Microfacet Models for Refraction through Rough Surfaces" (eq. 21 without its Fresnel
-//   factor, which fresnel_mix supplies): |wo.h||wi.h| eta^2 D G2 / (|n.wo||n.wi| (wo.h + eta wi.h)^2)
-//   with the generalised half vector h = normalize(wo + eta wi) (eq. 16), eta = n(wi side) /
-//   n(wo side). This is the refraction of a volume boundary (as with KHR_materials_volume);
-//   the extension's thin-walled variant (no macroscopic refraction) is not modelled.
+// - w is Schlick's (1 - |V.H|)^5 (B.3.4) for opaque materials. For transmissive ones
+//   (transmission > 0, thin or not) it is the exact dielectric Fresnel curve rescaled to [0, 1]
+//   (fresnel.h), so that total internal reflection exists at volume boundaries, a smooth
+//   surface reflects F and transmits exactly 1 - F, and the reflection seen from outside
+//   does not depend on the thickness.
+// - specular_btdf depends on BsdfInputs::thin_walled (KHR_materials_volume, "Extending
+//   Materials": thicknessFactor 0, the default, is thin-walled, anything else a volume boundary):
+//   * thin-walled (KHR_materials_transmission, "Refraction" and "Transmission BTDF": two
+//     surfaces back to back, no macroscopic refraction): the reflection lobe mirrored to the
+//     other side, D G2 / (4 |n.wo| |n.wi|) with H_T = normalize(wo + wi - 2 (n.wi) n), the
+//     half vector of wo and wi mirrored through the tangent plane. A smooth wall passes light
+//     straight through. Both sides face air, so fresnel_mix uses eta = ior from either side
+//     (no total internal reflection), and no volume lies behind the wall.
+//   * volume boundary (KHR_materials_volume, "Refraction" and "Implementation"): the rough
+//     dielectric refraction of Walter, Marschner, Li & Torrance 2007, "Microfacet Models for
+//     Refraction through Rough Surfaces" (eq. 21 without its Fresnel factor, which fresnel_mix
+//     supplies): |wo.h||wi.h| eta^2 D G2 / (|n.wo||n.wi| (wo.h + eta wi.h)^2) with the
+//     generalised half vector h = normalize(wo + eta wi) (eq. 16), eta = n(wi side) / n(wo side).
 // - H in fresnel_mix is the half vector of the pair: the reflection half vector for the
-//   specular and diffuse terms, Walter's h for the transmission term.
+//   specular and diffuse terms, H_T or Walter's h for the transmission term. The thin wall
+//   uses one Fresnel factor, as fresnel_mix writes it (reflect fr, transmit (1 - fr) baseColor),
+//   not the sum over the light bouncing between its two faces.
 // - For 0 < metallic < 1 this is B.2's mix of the two BRDFs. B.3.5's shortcut (one F with
 //   f0 = lerp(0.04, baseColor, metallic) for both layers) equals it only at metallic 0 or 1.
 //
 // Conventions and choices:
 // - Two-sided: the side of the shading normal that wo lies on is the side the ray came from;
 //   `entering` says whether that side is outside (index 1) or inside (index ior). Hence
-//   eta = ior when entering, 1 / ior when exiting, whichever way frame.n points. transmitted
-//   in BsdfSample means "wi on the other side of the shading normal than wo"; the integrator
-//   checks the geometric side and does Beer-Lambert (KHR_materials_volume) itself.
+//   eta = ior when entering, 1 / ior when exiting, whichever way frame.n points (a thin wall
+//   ignores `entering`: both sides are outside). transmitted in BsdfSample means "wi on the
+//   other side of the shading normal than wo"; the integrator checks the geometric side and
+//   does Beer-Lambert (KHR_materials_volume) itself, inside volume boundaries only.
 // - No (n_wo / n_wi)^2 radiance scaling across the interface: the BTDF is in the form whose
 //   directional albedo is at most 1 in both directions (importance form). A path that enters
 //   and leaves a closed object has the factors cancel; an integrator that starts or ends a
 //   path inside a medium must apply it.
 // - Delta lobes: alpha < kSmoothAlpha = 1e-3 (roughness < ~0.032) makes the reflection and
-//   transmission lobes perfect mirror / refraction lobes. An index-matched interface
+//   transmission lobes perfect mirror / refraction lobes. An index-matched volume boundary
 //   (|eta - 1| < 1e-3) refracts as a delta lobe whatever the roughness (light passes
-//   straight through; with ior = 1 the exact Fresnel term is 0, so nothing reflects).
+//   straight through; with ior = 1 the exact Fresnel term is 0, so nothing reflects). A thin
+//   wall's transmission is as rough as its reflection, whatever the ior (the extension's
+//   formula has no ior in it; its text says the blur is "modulated by" the ior, unquantified).
 //   eval() and pdf() never include delta lobes.
 // - Sampling picks the interface lobe (microfacet reflection + refraction) or the diffuse
 //   lobe with probabilities proportional to estimates of their albedos at wo. The interface
 //   draws a microfacet normal m from the distribution of visible normals (Heitz 2018), then
 //   reflects or refracts through m with probabilities proportional to the two terms' weights
-//   at m (as Walter et al. 2007 choose by F), so facets beyond the critical
-//   angle always reflect. The diffuse lobe is cosine-distributed. A non-delta sample's
-//   weight and pdf are those of the whole mixture of non-delta lobes (eval / pdf), so it
-//   combines directly with light sampling; a delta sample's probability is exact.
+//   at m (as Walter et al. 2007 choose by F), so facets beyond the critical angle always
+//   reflect; a thin wall's transmitted direction is the reflected one mirrored through the
+//   tangent plane. The diffuse lobe is cosine-distributed. A non-delta sample's weight and
+//   pdf are those of the whole mixture of non-delta lobes (eval / pdf), so it combines
+//   directly with light sampling; a delta sample's probability is exact.
 // - Inputs are clamped to their ranges (metallic, roughness, transmission, specular,
 //   baseColor in [0, 1], specularColor >= 0); an ior that is not a positive finite number
 //   gives F0 = 1 and no refraction (see dielectric_f0).
@@ -65,7 +79,10 @@
 // than it receives: albedo 1.57 at roughness 0.1 and 85 degrees, 1.03 at 60 degrees (B.3
 // itself warns that its formulation breaks energy conservation). Scaling the base by the
 // specular layer's directional albedo (as OpenPBR does) would fix it but is not the spec.
-// tests/render/bsdf_sampling_test.cpp measures and prints these albedos per case.
+// tests/render/bsdf_sampling_test.cpp measures and prints these albedos per case. A white
+// thin wall (transmission 1) loses exactly what a white metal of its roughness loses: each
+// facet splits fr + (1 - fr) = 1 between a direction and its mirror image, which share D and
+// G2 (tests/render/bsdf_thin_walled_test.cpp).
 #pragma once
 
 #include <optional>
@@ -99,6 +116,10 @@ struct BsdfInputs {
   float specular = 1.0f;
   glm::vec3 specular_color{1.0f};
   float transmission = 0.0f;
+  // KHR_materials_volume: true for a thin wall (thicknessFactor 0, the glTF default; see
+  // is_thin_walled() in shading_inputs.h), false for a volume boundary. The BSDF's own default
+  // is the volume boundary.
+  bool thin_walled = false;
 };
 
 struct BsdfSample {
@@ -127,8 +148,10 @@ class Bsdf {
   bool has_delta() const;
   bool is_delta_only() const;
   bool entering() const { return entering_; }
-  // n(far side) / n(wo side): ior when entering, 1 / ior when exiting.
+  // n(far side) / n(wo side) for the macroscopic refraction: ior when entering, 1 / ior when
+  // exiting, 1 for a thin wall (light leaves into air again, unbent).
   float eta() const { return eta_; }
+  bool thin_walled() const { return thin_walled_; }
 
  private:
   // Probabilities of the two sampling lobes for a given wo (local, wo.z > 0): the interface
@@ -155,11 +178,13 @@ class Bsdf {
   float metallic_, specular_, transmission_;
   GgxDistribution ggx_;
   DielectricFresnel fresnel_;
-  float eta_;
+  float eta_;          // refraction: n(far side) / n(wo side)
+  float fresnel_eta_;  // Fresnel: n(material or far side) / n(wo side); ior on a thin wall
   bool entering_;
+  bool thin_walled_;
   // Which lobes exist at all (independent of wo).
   bool has_reflection_, has_diffuse_, has_transmission_;
-  bool smooth_transmission_;  // delta refraction: smooth, or index-matched
+  bool smooth_transmission_;  // delta transmission: smooth, or an index-matched volume boundary
   // Whether reflection vs refraction is decided at the macro normal (a delta lobe is
   // involved) rather than at the sampled microfacet normal.
   bool split_at_normal_;

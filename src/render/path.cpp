@@ -32,21 +32,6 @@ float max_component(const glm::vec3& v) { return std::max(v.x, std::max(v.y, v.z
 bool is_black(const glm::vec3& v) { return v.x <= 0.0f && v.y <= 0.0f && v.z <= 0.0f; }
 bool is_finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
-// The largest |coordinate| of triangle i's vertices.
-float triangle_scale(const TriangleSoA& t, std::uint32_t i) {
-  float m = 0.0f;
-  for (int k = 0; k < 3; ++k)
-    m = std::max({m, std::fabs(t.x[k][i]), std::fabs(t.y[k][i]), std::fabs(t.z[k][i])});
-  return m;
-}
-
-// A ray leaving the hit point along dir, its origin pushed off the surface to the side it
-// leaves (Wächter & Binder's offset along the geometric normal, at least 2^-16 of the
-// triangle's reach: ray_offset.h).
-glm::vec3 leave_from(const ShadingInputs& si, float scale, const glm::vec3& dir) {
-  return offset_ray_origin(si.p, glm::dot(dir, si.ng) >= 0.0f ? si.ng : -si.ng, scale);
-}
-
 // A direction counts only where the shading normal and the geometric normal agree on the
 // side it lies on (else a normal map or interpolated normal would let light leak through
 // the surface). ng and ns both face wo.
@@ -54,9 +39,10 @@ bool sides_agree(const ShadingInputs& si, const glm::vec3& wi) {
   return (glm::dot(wi, si.ng) > 0.0f) == (glm::dot(wi, si.ns) > 0.0f);
 }
 
-// Beer-Lambert absorption coefficient of a KHR_materials_volume material, or nothing.
+// Beer-Lambert absorption coefficient of a KHR_materials_volume material, or nothing. A thin
+// wall encloses no volume, whatever its attenuation says.
 bool volume_absorption(const ShadingInputs& si, glm::vec3& sigma_a) {
-  if (!(si.thickness > 0.0f) || !(si.attenuation_distance > 0.0f) || !std::isfinite(si.attenuation_distance))
+  if (si.thin_walled || !(si.attenuation_distance > 0.0f) || !std::isfinite(si.attenuation_distance))
     return false;
   const glm::vec3 c = glm::max(si.attenuation_color, glm::vec3(1e-6f));
   sigma_a = -glm::log(c) / si.attenuation_distance;
@@ -91,7 +77,9 @@ glm::vec3 PathIntegrator::radiance_from_hit(const Ray& camera_ray, const Hit& fi
     }
     if (in_volume) beta *= glm::exp(-sigma_a * (hit.t * dir_length));
     const ShadingInputs si = evaluate_shading(scene_, ray, hit);
-    const float scale = triangle_scale(scene_.triangles, hit.prim);
+    // Origins of the rays leaving this point: pushed off the triangle just far enough that
+    // the ray cannot hit it again, for each ray's exact direction (ray_offset.h).
+    const SurfaceOffset leave(si.p, si.ng, triangle_corners(scene_.triangles, hit.prim));
 
     if (si.front_face && !is_black(si.emission)) {
       float w = 1.0f;
@@ -114,7 +102,7 @@ glm::vec3 PathIntegrator::radiance_from_hit(const Ray& camera_ray, const Hit& fi
     const float u_roulette = sampler.next1();
 
     const BsdfInputs inputs{si.base_color, si.metallic,       si.roughness,   si.ior,
-                            si.specular,   si.specular_color, si.transmission};
+                            si.specular,   si.specular_color, si.transmission, si.thin_walled};
     const Bsdf bsdf(inputs, ShadingFrame::from_normal_tangent(si.ns, si.tangent), si.front_face);
     const glm::vec3 wo = -dir;
 
@@ -130,8 +118,9 @@ glm::vec3 PathIntegrator::radiance_from_hit(const Ray& camera_ray, const Hit& fi
           const glm::vec3 f = cos_l > 0.0f && sides_agree(si, wi) ? bsdf.eval(wo, wi) : glm::vec3(0.0f);
           if (!is_black(f)) {
             Ray shadow;
-            shadow.org = leave_from(si, scale, wi);
-            shadow.dir = offset_ray_origin(ls.point, ls.normal) - shadow.org;
+            const glm::vec3 end = offset_ray_origin(ls.point, ls.normal);
+            shadow.org = leave.origin_towards(end);
+            shadow.dir = end - shadow.org;
             shadow.tfar = 1.0f - kShadowShorten;
             ++rays;
             if (!accel_.occluded(shadow)) {
@@ -155,7 +144,7 @@ glm::vec3 PathIntegrator::radiance_from_hit(const Ray& camera_ray, const Hit& fi
             es.pdf > 0.0f && sides_agree(si, es.dir) ? bsdf.eval(wo, es.dir) : glm::vec3(0.0f);
         if (!is_black(f) && !is_black(es.radiance)) {
           Ray shadow;
-          shadow.org = leave_from(si, scale, es.dir);
+          shadow.org = leave.origin(es.dir);
           shadow.dir = es.dir;
           ++rays;
           if (!accel_.occluded(shadow))
@@ -169,10 +158,11 @@ glm::vec3 PathIntegrator::radiance_from_hit(const Ray& camera_ray, const Hit& fi
         const glm::vec3 f = bsdf.eval(wo, in.wi);
         if (is_black(f)) continue;
         Ray shadow;
-        shadow.org = leave_from(si, scale, in.wi);
         if (light.type == LightType::Directional) {
+          shadow.org = leave.origin(in.wi);
           shadow.dir = in.wi;
         } else {
+          shadow.org = leave.origin_towards(light.position);
           shadow.dir = light.position - shadow.org;
           shadow.tfar = 1.0f - kShadowShorten;
         }
@@ -188,14 +178,16 @@ glm::vec3 PathIntegrator::radiance_from_hit(const Ray& camera_ray, const Hit& fi
     if (is_black(beta) || !is_finite(beta)) break;
     prev_pdf = bs->pdf;
     prev_delta = bs->delta;
-    if (bs->transmitted) in_volume = si.front_face && volume_absorption(si, sigma_a);
+    // Through a volume boundary the path enters (front face) or leaves the medium; through a
+    // thin wall it stays where it was.
+    if (bs->transmitted && !si.thin_walled) in_volume = si.front_face && volume_absorption(si, sigma_a);
     if (depth + 1 >= kRouletteDepth) {
       const float survive = std::max(kMinSurvival, std::min(1.0f, max_component(beta)));
       if (u_roulette >= survive) break;
       beta /= survive;
     }
     ray = Ray{};
-    ray.org = leave_from(si, scale, bs->wi);
+    ray.org = leave.origin(bs->wi);
     ray.dir = bs->wi;
     ++rays;
     hit = accel_.intersect(ray);

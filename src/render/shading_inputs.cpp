@@ -86,6 +86,7 @@ ShadingInputs evaluate_shading(const Scene& scene, const Ray& ray, const Hit& hi
   si.specular_color = m.specular_color * glm::vec3(lookup(m.specular_color_texture, TexelEncoding::Srgb));
   si.transmission = m.transmission * lookup(m.transmission_texture, TexelEncoding::Linear).r;
   si.thickness = m.thickness * lookup(m.thickness_texture, TexelEncoding::Linear).g;
+  si.thin_walled = is_thin_walled(m);
   si.attenuation_distance = m.attenuation_distance;
   si.attenuation_color = m.attenuation_color;
 

@@ -10,6 +10,7 @@
 //   specular = specularFactor * A of specularTexture
 //   specular_color = specularColorFactor * specularColorTexture (sRGB)
 //   thickness = thicknessFactor * G of thicknessTexture
+//   thin_walled = (thicknessFactor == 0), the texture aside (see is_thin_walled)
 // and an absent texture counts as 1. alpha is the coverage after alphaMode: 1 for
 // OPAQUE, 0 or 1 for MASK (opaque when alpha >= alphaCutoff), the value itself for
 // BLEND. The occlusion texture is ignored: ambient occlusion approximates shadowing
@@ -57,11 +58,19 @@ struct ShadingInputs {
   glm::vec3 specular_color{1.0f};  // linear
   float transmission = 0.0f;
   float thickness = 0.0f;
+  bool thin_walled = true;  // is_thin_walled(*material)
   float attenuation_distance = 0.0f;  // infinity: no attenuation
   glm::vec3 attenuation_color{1.0f};
   bool front_face = true;  // the ray hit the side cross(b - a, c - a) points to
   const Material* material = nullptr;
 };
+
+// Whether `m` is a thin wall (KHR_materials_volume, "Properties": thicknessFactor 0, the
+// default, is thin-walled, anything else makes the mesh a volume boundary). The thickness
+// texture plays no part: "Ray-tracers should ignore the thickness texture ... it is still
+// necessary to check the thicknessFactor to determine whether the object is thin-walled or
+// volumetric" ("Thickness Texture"), so a closed mesh is a volume at every point or at none.
+inline bool is_thin_walled(const Material& m) { return !(m.thickness > 0.0f); }
 
 // `hit` must be valid and come from `ray` against `scene.triangles`.
 ShadingInputs evaluate_shading(const Scene& scene, const Ray& ray, const Hit& hit);

@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 
 #include "accel/ray_offset.h"
+#include "render/shading_inputs.h"
 
 namespace lancer {
 
@@ -20,11 +21,16 @@ constexpr float kMinLightDistance2 = 1e-20f;
 
 bool is_mirror(const Material& m) { return m.metallic >= 0.5f && m.roughness < 0.2f; }
 
-// A secondary ray from `p` along unit `dir`, its origin pushed off the surface to the side
-// the ray leaves (Wächter & Binder's offset along the geometric normal).
-Ray spawn_ray(const SurfacePoint& sp, const glm::vec3& dir) {
+// The rays leaving surface point sp: origins pushed off its triangle just far enough that
+// a ray cannot hit it again, for each ray's exact direction (ray_offset.h).
+SurfaceOffset leaving(const Scene& scene, const SurfacePoint& sp) {
+  return SurfaceOffset(sp.p, sp.ng, triangle_corners(scene.triangles, sp.prim));
+}
+
+// A secondary ray from `sp` along unit `dir`.
+Ray spawn_ray(const Scene& scene, const SurfacePoint& sp, const glm::vec3& dir) {
   Ray r;
-  r.org = offset_ray_origin(sp.p, glm::dot(dir, sp.ng) >= 0.0f ? sp.ng : -sp.ng);
+  r.org = leaving(scene, sp).origin(dir);
   r.dir = dir;
   return r;
 }
@@ -88,15 +94,18 @@ glm::vec3 WhittedIntegrator::mirror(const SurfacePoint& sp, const Ray& ray, int 
   const glm::vec3 n = specular_normal(sp, wo);
   const float cos_i = glm::dot(wo, n);
   const glm::vec3 dir = glm::normalize(glm::reflect(ray.dir, n));
-  return fresnel_schlick(sp.base_color, cos_i) * trace(spawn_ray(sp, dir), depth + 1, sampler, rays);
+  return fresnel_schlick(sp.base_color, cos_i) * trace(spawn_ray(scene_, sp, dir), depth + 1, sampler, rays);
 }
 
 glm::vec3 WhittedIntegrator::dielectric(const SurfacePoint& sp, const Ray& ray, int depth, PixelSampler& sampler,
                                         std::uint64_t& rays) const {
   // A non-physical ior from a file (<= 0, NaN) is treated as 1: the surface only refracts.
   const float ior = std::isfinite(sp.material->ior) && sp.material->ior > 0.0f ? sp.material->ior : 1.0f;
-  // Entering through the front side goes from air into the material.
-  const float eta = sp.front_face ? ior : 1.0f / ior;  // n_t / n_i
+  // A thin wall (KHR_materials_volume thicknessFactor 0) has air on both sides: light meets
+  // the index ior from either side and goes on unbent (KHR_materials_transmission,
+  // "Refraction"). A volume boundary is entered through its front side.
+  const bool thin = is_thin_walled(*sp.material);
+  const float eta = thin || sp.front_face ? ior : 1.0f / ior;  // n_t / n_i
   const glm::vec3 wo = -ray.dir;
   const glm::vec3 n = specular_normal(sp, wo);
   const float cos_i = std::clamp(glm::dot(wo, n), 0.0f, 1.0f);
@@ -104,26 +113,29 @@ glm::vec3 WhittedIntegrator::dielectric(const SurfacePoint& sp, const Ray& ray, 
 
   glm::vec3 L(0.0f);
   const glm::vec3 refl = glm::normalize(glm::reflect(ray.dir, n));
-  L += F * trace(spawn_ray(sp, refl), depth + 1, sampler, rays);
-  if (F < 1.0f) {
+  L += F * trace(spawn_ray(scene_, sp, refl), depth + 1, sampler, rays);
+  if (F < 1.0f && thin) {
+    const glm::vec3 straight = glm::normalize(ray.dir);
+    L += (1.0f - F) * sp.base_color * trace(spawn_ray(scene_, sp, straight), depth + 1, sampler, rays);
+  } else if (F < 1.0f) {
     const float inv_eta = 1.0f / eta;
     const float sin2_t = inv_eta * inv_eta * (1.0f - cos_i * cos_i);
     const float cos_t = std::sqrt(std::max(0.0f, 1.0f - sin2_t));
     const glm::vec3 refr = glm::normalize(inv_eta * ray.dir + (inv_eta * cos_i - cos_t) * n);
-    L += (1.0f - F) * sp.base_color * trace(spawn_ray(sp, refr), depth + 1, sampler, rays);
+    L += (1.0f - F) * sp.base_color * trace(spawn_ray(scene_, sp, refr), depth + 1, sampler, rays);
   }
   return L;
 }
 
 glm::vec3 WhittedIntegrator::direct_lighting(const SurfacePoint& sp, PixelSampler& sampler,
                                              std::uint64_t& rays) const {
-  const glm::vec3 origin = offset_ray_origin(sp.p, sp.ng);
-  const glm::vec3 E = punctual_lighting(sp, origin, rays) + area_lighting(sp, origin, sampler, rays);
+  const SurfaceOffset leave = leaving(scene_, sp);
+  const glm::vec3 E = punctual_lighting(sp, leave, rays) + area_lighting(sp, leave, sampler, rays);
   return sp.base_color * kInvPi * E;
 }
 
 // Sum over punctual lights of irradiance * cos(theta), one shadow ray each.
-glm::vec3 WhittedIntegrator::punctual_lighting(const SurfacePoint& sp, const glm::vec3& origin,
+glm::vec3 WhittedIntegrator::punctual_lighting(const SurfacePoint& sp, const SurfaceOffset& leave,
                                                std::uint64_t& rays) const {
   glm::vec3 E(0.0f);
   for (const PunctualLight& light : scene_.lights) {
@@ -133,11 +145,12 @@ glm::vec3 WhittedIntegrator::punctual_lighting(const SurfacePoint& sp, const glm
     const float cos_s = glm::dot(sp.ns, in.wi);
     if (cos_g <= 0.0f || cos_s <= 0.0f) continue;  // light below the surface
     Ray shadow;
-    shadow.org = origin;
     if (light.type == LightType::Directional) {
+      shadow.org = leave.origin(in.wi);
       shadow.dir = in.wi;
     } else {
-      shadow.dir = light.position - origin;
+      shadow.org = leave.origin_towards(light.position);
+      shadow.dir = light.position - shadow.org;
       shadow.tfar = 1.0f - kShadowShorten;
     }
     ++rays;
@@ -148,7 +161,7 @@ glm::vec3 WhittedIntegrator::punctual_lighting(const SurfacePoint& sp, const glm
 
 // Estimate of the irradiance from the emissive triangles, sampled in area:
 // E = 1/N sum L_e cos_s cos_l / r^2 / pdf_area  (one-sided emitters).
-glm::vec3 WhittedIntegrator::area_lighting(const SurfacePoint& sp, const glm::vec3& origin, PixelSampler& sampler,
+glm::vec3 WhittedIntegrator::area_lighting(const SurfacePoint& sp, const SurfaceOffset& leave, PixelSampler& sampler,
                                            std::uint64_t& rays) const {
   if (area_lights_.empty() || light_samples_ <= 0) return glm::vec3(0.0f);
   glm::vec3 sum(0.0f);
@@ -166,9 +179,10 @@ glm::vec3 WhittedIntegrator::area_lighting(const SurfacePoint& sp, const glm::ve
     const float cos_l = -glm::dot(ls.normal, wi);
     if (cos_g <= 0.0f || cos_s <= 0.0f || cos_l <= 0.0f) continue;
     Ray shadow;
-    shadow.org = origin;
     // Aim at the light point lifted off the light's surface, towards the shading point.
-    shadow.dir = offset_ray_origin(ls.point, ls.normal) - origin;
+    const glm::vec3 end = offset_ray_origin(ls.point, ls.normal);
+    shadow.org = leave.origin_towards(end);
+    shadow.dir = end - shadow.org;
     shadow.tfar = 1.0f - kShadowShorten;
     ++rays;
     if (accel_.occluded(shadow)) continue;

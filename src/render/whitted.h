@@ -8,7 +8,10 @@
 //  - smooth dielectric (weight = transmission): exact unpolarised Fresnel, Snell's law and
 //    total internal reflection; both the reflected and the refracted ray are traced, the
 //    refracted one tinted by the base colour (glTF KHR_materials_transmission). Radiance is
-//    not scaled by eta^2 across the interface: the factors cancel for closed objects in air;
+//    not scaled by eta^2 across the interface: the factors cancel for closed objects in air.
+//    Only a volume boundary (KHR_materials_volume thicknessFactor > 0) refracts; a thin wall
+//    (thicknessFactor 0, the default) reflects F(ior) from either side and passes the rest
+//    straight on;
 //  - Lambert (the remaining weight, BRDF = base colour / pi) lit directly by the punctual
 //    lights (one shadow ray each) and by `light_samples` samples of the emissive triangles.
 // Secondary rays stop after `max_depth` specular bounces; the background is black.
@@ -19,6 +22,7 @@
 #include <glm/vec3.hpp>
 
 #include "accel/accelerator.h"
+#include "accel/ray_offset.h"
 #include "render/lights.h"
 #include "render/sampler.h"
 #include "render/surface.h"
@@ -62,8 +66,8 @@ class WhittedIntegrator {
                    std::uint64_t& rays) const;
   glm::vec3 dielectric(const SurfacePoint& sp, const Ray& ray, int depth, PixelSampler& sampler,
                        std::uint64_t& rays) const;
-  glm::vec3 punctual_lighting(const SurfacePoint& sp, const glm::vec3& origin, std::uint64_t& rays) const;
-  glm::vec3 area_lighting(const SurfacePoint& sp, const glm::vec3& origin, PixelSampler& sampler,
+  glm::vec3 punctual_lighting(const SurfacePoint& sp, const SurfaceOffset& leave, std::uint64_t& rays) const;
+  glm::vec3 area_lighting(const SurfacePoint& sp, const SurfaceOffset& leave, PixelSampler& sampler,
                           std::uint64_t& rays) const;
 
   const Scene& scene_;

@@ -123,7 +123,9 @@ TEST(PathTracer, LambertianPlaneUnderAUniformSkyIsAlbedoTimesSky) {
 
 TEST(PathTracer, SmoothGlassSlabTransmitsItsFresnelTransmittance) {
   Scene scene;
-  append_box(scene, {{-5, -5, -0.5f}, {5, 5, 0.5f}}, add_material(scene, test::glass_material(1.5f)));
+  Material glass = test::glass_material(1.5f);
+  glass.thickness = 1.0f;  // KHR_materials_volume: a solid slab, not a thin-walled box
+  append_box(scene, {{-5, -5, -0.5f}, {5, 5, 0.5f}}, add_material(scene, glass));
   test::add_square_z(scene, 0, 0, -3, 100.0f, true, add_material(scene, black_emitter(1.0f)));
   const PinholeCamera cam = PinholeCamera::look_at({0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 0.02f, 16, 16);
   const double R = 0.04;  // ((1.5 - 1) / (1.5 + 1))^2

@@ -152,7 +152,9 @@ TEST(Whitted, RefractionFollowsSnell) {
   // below lies where Snell's law sends it: x = tan(asin(sin 45 / 1.5)) = 0.5345.
   Scene scene;
   const glm::vec3 e(1.0f);
-  add_square_z(scene, 0, 0, 0, 10, true, add_material(scene, test::glass_material(1.5f)));
+  Material glass = test::glass_material(1.5f);
+  glass.thickness = 1.0f;  // KHR_materials_volume: only a volume boundary refracts
+  add_square_z(scene, 0, 0, 0, 10, true, add_material(scene, glass));
   const std::uint32_t strip = add_material(scene, test::emissive_material(e));
   const float x = std::tan(std::asin(std::sqrt(0.5f) / 1.5f));
   append_quad(scene, {x - 0.01f, -1, -1}, {x + 0.01f, -1, -1}, {x + 0.01f, 1, -1}, {x - 0.01f, 1, -1}, strip);

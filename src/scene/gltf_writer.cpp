@@ -232,6 +232,17 @@ void add_materials(tinygltf::Model& model, const Scene& scene, const std::string
     if (m.ior != 1.5f) extend("KHR_materials_ior", object_value("ior", tinygltf::Value(double(m.ior))));
     if (m.transmission != 0.0f)
       extend("KHR_materials_transmission", object_value("transmissionFactor", tinygltf::Value(double(m.transmission))));
+    // KHR_materials_volume: without it a transmissive surface is a thin wall on reading.
+    if (m.thickness != 0.0f || std::isfinite(m.attenuation_distance) || m.attenuation_color != glm::vec3(1.0f)) {
+      tinygltf::Value::Object o;
+      o["thicknessFactor"] = tinygltf::Value(double(m.thickness));
+      if (std::isfinite(m.attenuation_distance))
+        o["attenuationDistance"] = tinygltf::Value(double(m.attenuation_distance));
+      o["attenuationColor"] = tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(double(m.attenuation_color.r)),
+                                                                     tinygltf::Value(double(m.attenuation_color.g)),
+                                                                     tinygltf::Value(double(m.attenuation_color.b))});
+      extend("KHR_materials_volume", tinygltf::Value(std::move(o)));
+    }
     if (m.specular != 1.0f || m.specular_color != glm::vec3(1.0f)) {
       tinygltf::Value::Object o;
       o["specularFactor"] = tinygltf::Value(double(m.specular));

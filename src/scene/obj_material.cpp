@@ -70,7 +70,8 @@ Material default_obj_material() {
 //   illum is a perfectly specular reflection, so roughness 0; otherwise from Ns.
 // - Glass, illum 4/6/7/9: transmission 1, metallic 0, base colour = Tf when given
 //   (the transmission filter), else white; d is then not used as alpha because the
-//   transparency is the transmission itself.
+//   transparency is the transmission itself. MTL's refraction models describe solids, so
+//   the glass is a volume boundary (thickness > 0), not a glTF thin wall.
 // - Ke -> emission. glTF keeps emissive_factor in [0, 1], so a brighter Ke is split
 //   into factor * emissive_strength (KHR_materials_emissive_strength); emission() = Ke.
 //   map_Ke with Ke = 0 (some exporters omit Ke) uses factor 1 so the texture shows;
@@ -107,6 +108,7 @@ Material convert_mtl_material(const tinyobj::material_t& mtl, const fs::path& mt
 
   if (glass_illum(mtl.illum)) {
     m.transmission = 1.0f;
+    m.thickness = 1.0f;  // a refracting solid: a volume boundary, not a thin wall (KHR_materials_volume)
     m.base_color = glm::vec4(max_component(tf) > 0.0f ? tf : glm::vec3(1.0f), 1.0f);
   } else {
     const bool metal_look = max_component(ks) >= 0.5f && max_component(kd) <= 0.1f;

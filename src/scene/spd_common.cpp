@@ -50,6 +50,7 @@ Material glass_material(std::string name, glm::vec3 colour, float transmission, 
   Material m = diffuse_material(std::move(name), colour);
   m.roughness = 0.0f;
   m.transmission = transmission;
+  m.thickness = 1.0f;  // solid glass: a volume boundary that refracts, not a glTF thin wall
   m.ior = ior;
   return m;
 }

@@ -61,6 +61,9 @@ void expect_same_materials(const Scene& a, const Scene& b) {
     EXPECT_EQ(x.double_sided, y.double_sided);
     EXPECT_EQ(x.ior, y.ior);
     EXPECT_EQ(x.transmission, y.transmission);
+    EXPECT_EQ(x.thickness, y.thickness);
+    EXPECT_EQ(x.attenuation_distance, y.attenuation_distance);
+    EXPECT_EQ(x.attenuation_color, y.attenuation_color);
     EXPECT_EQ(x.specular, y.specular);
     EXPECT_EQ(x.specular_color, y.specular_color);
   }
@@ -141,6 +144,9 @@ Scene varied_scene() {
   fancy.double_sided = true;
   fancy.ior = 1.33f;
   fancy.transmission = 0.6f;
+  fancy.thickness = 0.25f;
+  fancy.attenuation_distance = 2.0f;
+  fancy.attenuation_color = {0.5f, 0.75f, 1.0f};
   fancy.specular = 0.5f;
   fancy.specular_color = {0.9f, 0.8f, 0.7f};
   Material blend;

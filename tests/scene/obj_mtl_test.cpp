@@ -81,6 +81,7 @@ TEST_F(ObjMtl, PhongParametersMapOntoMetallicRoughness) {
 
   const Material& glass = material_of(scene, 4);
   EXPECT_EQ(glass.transmission, 1.0f);
+  EXPECT_GT(glass.thickness, 0.0f) << "illum 7 refracts: a volume, not a thin wall";
   EXPECT_EQ(glass.metallic, 0.0f);
   EXPECT_FLOAT_EQ(glass.ior, 1.33f);
   EXPECT_EQ(glass.base_color, glm::vec4(0.9f, 1.0f, 0.9f, 1.0f)) << "Tf tints the glass; d is not alpha";

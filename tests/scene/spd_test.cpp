@@ -119,6 +119,11 @@ TEST_P(SpdShapes, CountsClosednessAndOrientation) {
   }
   EXPECT_GE(s.materials.size(), std::string(c.name) == "tetra" ? 1u : 2u);
   for (std::uint32_t id : s.material_id) ASSERT_LT(id, s.materials.size());
+  for (const Material& m : s.materials) {  // SPD glass is solid: it must refract, not be a thin wall
+    if (m.transmission > 0.0f) {
+      EXPECT_GT(m.thickness, 0.0f) << m.name;
+    }
+  }
   EXPECT_FALSE(s.lights.empty());
 }
 

@@ -8,14 +8,12 @@
 #include "accel/ray_offset.h"
 #include "render/bsdf.h"
 #include "render/shading_inputs.h"
+#include "render/shadow_ray.h"
 
 namespace lancer {
 
 namespace {
 
-// Shadow rays toward a point stop this fraction short of it (the light's own surface is
-// not an occluder); the same rule as the Whitted integrator.
-constexpr float kShadowShorten = 1e-4f;
 constexpr float kMinLightDistance2 = 1e-20f;
 constexpr int kRouletteDepth = 3;
 constexpr float kMinSurvival = 0.05f;
@@ -117,11 +115,7 @@ glm::vec3 PathIntegrator::radiance_from_hit(const Ray& camera_ray, const Hit& fi
           const float cos_l = -glm::dot(ls.normal, wi);
           const glm::vec3 f = cos_l > 0.0f && sides_agree(si, wi) ? bsdf.eval(wo, wi) : glm::vec3(0.0f);
           if (!is_black(f)) {
-            Ray shadow;
-            const glm::vec3 end = offset_ray_origin(ls.point, ls.normal);
-            shadow.org = leave.origin_towards(end);
-            shadow.dir = end - shadow.org;
-            shadow.tfar = 1.0f - kShadowShorten;
+            const Ray shadow = shadow_ray_to_area_light(leave, ls.point, ls.normal);
             ++rays;
             if (!accel_.occluded(shadow)) {
               glm::vec3 Le = ls.radiance;
@@ -157,15 +151,7 @@ glm::vec3 PathIntegrator::radiance_from_hit(const Ray& camera_ray, const Hit& fi
         if (is_black(in.irradiance) || !sides_agree(si, in.wi)) continue;
         const glm::vec3 f = bsdf.eval(wo, in.wi);
         if (is_black(f)) continue;
-        Ray shadow;
-        if (light.type == LightType::Directional) {
-          shadow.org = leave.origin(in.wi);
-          shadow.dir = in.wi;
-        } else {
-          shadow.org = leave.origin_towards(light.position);
-          shadow.dir = light.position - shadow.org;
-          shadow.tfar = 1.0f - kShadowShorten;
-        }
+        const Ray shadow = shadow_ray_to_punctual(leave, light, in.wi);
         ++rays;
         if (!accel_.occluded(shadow)) L += beta * f * in.irradiance;
       }

@@ -11,6 +11,7 @@
 #include "accel/ray_offset.h"
 #include "render/lights.h"
 #include "render/sampler.h"
+#include "render/shadow_ray.h"
 #include "render/surface.h"
 
 namespace lancer {
@@ -19,9 +20,6 @@ namespace {
 
 constexpr float kTwoPi = 6.28318530717958648f;
 constexpr std::size_t kTileRays = static_cast<std::size_t>(kRayTileSide) * kRayTileSide;
-// Shadow rays stop this fraction short of the light point, as in whitted.cpp, so the
-// light's own surface never counts as an occluder.
-constexpr float kShadowShorten = 1e-4f;
 
 void check_image_size(int width, int height) {
   if (width <= 0 || height <= 0 || width % kRayTileSide != 0 || height % kRayTileSide != 0)

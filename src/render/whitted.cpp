@@ -7,15 +7,13 @@
 
 #include "accel/ray_offset.h"
 #include "render/shading_inputs.h"
+#include "render/shadow_ray.h"
 
 namespace lancer {
 
 namespace {
 
 constexpr float kInvPi = 0.31830988618379067f;
-// Shadow rays towards a light point stop this fraction short of it, so the light's own
-// surface is never counted as an occluder.
-constexpr float kShadowShorten = 1e-4f;
 // Closer than this (squared distance), a light sample's 1/r^2 is not evaluated.
 constexpr float kMinLightDistance2 = 1e-20f;
 
@@ -144,15 +142,7 @@ glm::vec3 WhittedIntegrator::punctual_lighting(const SurfacePoint& sp, const Sur
     const float cos_g = glm::dot(sp.ng, in.wi);
     const float cos_s = glm::dot(sp.ns, in.wi);
     if (cos_g <= 0.0f || cos_s <= 0.0f) continue;  // light below the surface
-    Ray shadow;
-    if (light.type == LightType::Directional) {
-      shadow.org = leave.origin(in.wi);
-      shadow.dir = in.wi;
-    } else {
-      shadow.org = leave.origin_towards(light.position);
-      shadow.dir = light.position - shadow.org;
-      shadow.tfar = 1.0f - kShadowShorten;
-    }
+    const Ray shadow = shadow_ray_to_punctual(leave, light, in.wi);
     ++rays;
     if (!accel_.occluded(shadow)) E += in.irradiance * cos_s;
   }
@@ -178,12 +168,7 @@ glm::vec3 WhittedIntegrator::area_lighting(const SurfacePoint& sp, const Surface
     const float cos_s = glm::dot(sp.ns, wi);
     const float cos_l = -glm::dot(ls.normal, wi);
     if (cos_g <= 0.0f || cos_s <= 0.0f || cos_l <= 0.0f) continue;
-    Ray shadow;
-    // Aim at the light point lifted off the light's surface, towards the shading point.
-    const glm::vec3 end = offset_ray_origin(ls.point, ls.normal);
-    shadow.org = leave.origin_towards(end);
-    shadow.dir = end - shadow.org;
-    shadow.tfar = 1.0f - kShadowShorten;
+    const Ray shadow = shadow_ray_to_area_light(leave, ls.point, ls.normal);
     ++rays;
     if (accel_.occluded(shadow)) continue;
     sum += ls.radiance * (cos_s * cos_l / (dist2 * ls.pdf_area));

@@ -29,6 +29,7 @@
 
 #include "accel/kd_tree.h"
 #include "render/renderer.h"
+#include "image_estimate.h"
 #include "render_test_scenes.h"
 #include "scene/procedural.h"
 #include "scene/scene_builder.h"
@@ -142,23 +143,8 @@ LitPlane plane_scene() {
 
 // ---- Rendering -------------------------------------------------------------------------
 
-struct Estimate {
-  double mean = 0.0, stderr_ = 0.0;
-};
-
-// Mean over the pixels of channel c, and its standard error (pixels are independent).
-Estimate estimate(const ImageRGB& image, int c) {
-  const std::size_t n = image.rgb.size() / 3;
-  double sum = 0.0, sum2 = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double v = image.rgb[3 * i + static_cast<std::size_t>(c)];
-    sum += v;
-    sum2 += v * v;
-  }
-  const double mean = sum / static_cast<double>(n);
-  const double var = std::max(0.0, sum2 / static_cast<double>(n) - mean * mean) * n / (n - 1.0);
-  return {mean, std::sqrt(var / static_cast<double>(n))};
-}
+using test::Estimate;
+using test::estimate;
 
 // Renders the plane around s.point through a camera with a 1e-4 rad field of view: every
 // pixel sees a patch under 1e-3 across, over which E changes by less than 1e-6 relative

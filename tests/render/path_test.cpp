@@ -17,6 +17,7 @@
 #include "accel/kd_tree.h"
 #include "render/environment.h"
 #include "render/renderer.h"
+#include "image_estimate.h"
 #include "render_test_scenes.h"
 #include "scene/procedural.h"
 
@@ -25,23 +26,8 @@ namespace {
 
 using test::add_material;
 
-struct Estimate {
-  double mean = 0.0, stderr_ = 0.0;
-};
-
-// Mean over the pixels of channel c, and its standard error.
-Estimate estimate(const ImageRGB& image, int c) {
-  const std::size_t n = image.rgb.size() / 3;
-  double sum = 0.0, sum2 = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double v = image.rgb[3 * i + static_cast<std::size_t>(c)];
-    sum += v;
-    sum2 += v * v;
-  }
-  const double mean = sum / static_cast<double>(n);
-  const double var = std::max(0.0, sum2 / static_cast<double>(n) - mean * mean);
-  return {mean, std::sqrt(var / static_cast<double>(n))};
-}
+using test::Estimate;
+using test::estimate;
 
 void expect_radiance(const ImageRGB& image, double expected, const char* what) {
   for (float v : image.rgb) ASSERT_TRUE(std::isfinite(v)) << what;

@@ -19,20 +19,6 @@ std::string num(double v) {
   return buf;
 }
 
-std::string escape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      case '\'': out += "&apos;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
 
 const char* colour(Mode m) {
   switch (m) {
@@ -130,7 +116,7 @@ std::string plot_svg(const BenchRun& run, const PlotSelection& sel) {
     const double x0 = kLeft + kGroupGap / 2 + static_cast<double>(g) * group_width;
     const double label_x = x0 + static_cast<double>(modes.size()) * kBarWidth / 2;
     o << "<text transform=\"translate(" << num(label_x) << " " << num(base + 14)
-      << ") rotate(40)\" text-anchor=\"start\">" << escape(groups[g].scene) << "</text>\n";
+      << ") rotate(40)\" text-anchor=\"start\">" << xml_escape(groups[g].scene) << "</text>\n";
     if (!groups[g].row) {
       o << "<text x=\"" << num(label_x) << "\" y=\"" << num(base - 6) << "\" text-anchor=\"middle\" fill=\"#aa0000\">"
         << "failed</text>\n";
@@ -145,7 +131,7 @@ std::string plot_svg(const BenchRun& run, const PlotSelection& sel) {
       const double x = x0 + static_cast<double>(m) * kBarWidth;
       o << "<rect class=\"bar\" x=\"" << num(x) << "\" y=\"" << num(y_of(s.median)) << "\" width=\""
         << num(kBarWidth - 2) << "\" height=\"" << num(base - y_of(s.median)) << "\" fill=\"" << colour(modes[m])
-        << "\"><title>" << escape(groups[g].scene) << ", " << mode_name(modes[m]) << ": " << num(s.median)
+        << "\"><title>" << xml_escape(groups[g].scene) << ", " << mode_name(modes[m]) << ": " << num(s.median)
         << " Mrays/s</title></rect>\n";
       const double cx = x + (kBarWidth - 2) / 2;
       o << "<line x1=\"" << num(cx) << "\" y1=\"" << num(y_of(s.min)) << "\" x2=\"" << num(cx) << "\" y2=\""
@@ -163,6 +149,21 @@ std::string plot_svg(const BenchRun& run, const PlotSelection& sel) {
   }
   o << "</svg>\n";
   return o.str();
+}
+
+std::string xml_escape(const std::string& text) {
+  std::string out;
+  for (char c : text) {
+    switch (c) {
+      case '&': out += "&amp;"; break;
+      case '<': out += "&lt;"; break;
+      case '>': out += "&gt;"; break;
+      case '"': out += "&quot;"; break;
+      case '\'': out += "&apos;"; break;
+      default: out += c;
+    }
+  }
+  return out;
 }
 
 }  // namespace lancer::bench

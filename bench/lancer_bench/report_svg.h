@@ -23,4 +23,7 @@ PlotSelection default_plot_selection(const BenchRun& run);
 // Scenes whose row failed or is missing get a "failed" label and no bars.
 std::string plot_svg(const BenchRun& run, const PlotSelection& selection);
 
+// text with the five XML special characters escaped, for SVG text and attributes.
+std::string xml_escape(const std::string& text);
+
 }  // namespace lancer::bench

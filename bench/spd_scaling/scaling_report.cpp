@@ -7,6 +7,8 @@
 #include <ostream>
 #include <sstream>
 
+#include "report_svg.h"
+
 namespace lancer::bench {
 
 namespace {
@@ -19,19 +21,6 @@ std::string fmt(const char* format, double v) {
 
 std::string num(double v) { return fmt("%.1f", v); }
 
-std::string escape(const std::string& text) {
-  std::string out;
-  for (char c : text) {
-    switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
-    }
-  }
-  return out;
-}
 
 // 1234567 -> "1,234,567".
 std::string grouped(std::uint64_t n) {
@@ -254,7 +243,7 @@ std::string scaling_svg(const std::vector<ScalingResult>& results, const Scaling
   }
   for (std::size_t i = 0; i < left_out.size(); ++i)
     o << "<text x=\"" << num(kPanelLeft) << "\" y=\"" << num(kTop + kPanelHeight + kBottom + 16.0 * double(i))
-      << "\" fill=\"#aa0000\">not measured: " << escape(left_out[i]) << "</text>\n";
+      << "\" fill=\"#aa0000\">not measured: " << xml_escape(left_out[i]) << "</text>\n";
   o << "</svg>\n";
   return o.str();
 }

@@ -5,7 +5,8 @@
 // U, V, W are then evaluated in that space. A ray through a shared edge or vertex sees
 // U, V or W exactly 0 on both triangles, so it cannot slip between them. When an edge
 // function is exactly 0 in single precision it is recomputed in double precision, as the
-// paper does, so the sign decision is exact for the common case.
+// paper does, so the sign decision is exact (a nonzero float edge function has the exact
+// sign already: rounding is monotone); unlike the paper, that case then stays in double.
 //
 // Invariants: no back-face culling; a hit counts when tnear <= t < tmax; a degenerate
 // (zero-area in the projection) triangle never hits.
@@ -52,20 +53,32 @@ inline bool intersect_watertight(const WatertightRay& r, const glm::vec3& a, con
   const float bx = B[r.kx] - r.sx * B[r.kz], by = B[r.ky] - r.sy * B[r.kz];
   const float cx = C[r.kx] - r.sx * C[r.kz], cy = C[r.ky] - r.sy * C[r.kz];
 
-  float U = cx * by - cy * bx;
-  float V = ax * cy - ay * cx;
-  float W = bx * ay - by * ax;
+  const float U = cx * by - cy * bx;
+  const float V = ax * cy - ay * cx;
+  const float W = bx * ay - by * ax;
+  const float az = r.sz * A[r.kz], bz = r.sz * B[r.kz], cz = r.sz * C[r.kz];
   if (U == 0.0f || V == 0.0f || W == 0.0f) {
-    U = static_cast<float>(double(cx) * double(by) - double(cy) * double(bx));
-    V = static_cast<float>(double(ax) * double(cy) - double(ay) * double(cx));
-    W = static_cast<float>(double(bx) * double(ay) - double(by) * double(ax));
+    // The products are exact in double, so these are the exact signs of the edge functions
+    // of the sheared float corners. The paper rounds them back to float, which turns a
+    // value below half the least subnormal into 0: a projected triangle of zero area (edge
+    // functions of mixed signs) could then pass the sign test as {0, 0, +tiny} and report
+    // a hit anywhere on the ray's line. So this rare case finishes in double.
+    const double Ud = double(cx) * double(by) - double(cy) * double(bx);
+    const double Vd = double(ax) * double(cy) - double(ay) * double(cx);
+    const double Wd = double(bx) * double(ay) - double(by) * double(ax);
+    if ((Ud < 0.0 || Vd < 0.0 || Wd < 0.0) && (Ud > 0.0 || Vd > 0.0 || Wd > 0.0)) return false;
+    const double det = Ud + Vd + Wd;
+    if (det == 0.0) return false;
+    const float t = static_cast<float>((Ud * double(az) + Vd * double(bz) + Wd * double(cz)) / det);
+    if (!(t >= r.tnear && t < tmax)) return false;
+    out = {t, static_cast<float>(Vd / det), static_cast<float>(Wd / det)};
+    return true;
   }
   if ((U < 0.0f || V < 0.0f || W < 0.0f) && (U > 0.0f || V > 0.0f || W > 0.0f)) return false;
 
   const float det = U + V + W;
   if (det == 0.0f) return false;
 
-  const float az = r.sz * A[r.kz], bz = r.sz * B[r.kz], cz = r.sz * C[r.kz];
   const float T = U * az + V * bz + W * cz;
   const float t = T / det;
   if (!(t >= r.tnear && t < tmax)) return false;  // also rejects NaN

@@ -166,6 +166,41 @@ TEST_P(KdRobustness, HugeAndTinyCoordinates) {
   EXPECT_GT(expect_matches_oracle(far, 500, "ordinary scene with far triangles", isa()), 0u);
 }
 
+// Denormal (subnormal) coordinates: an ordinary scene whose coordinates near zero are
+// replaced by subnormals down to the smallest (about 1.4e-45), so that triangles crossing
+// the axis planes, split planes at subnormal positions and cells of subnormal width all
+// occur; and a scene of subnormal size (degenerate for the kernel, but never a crash or a
+// disagreement). Readers keep such positions (they are finite), so the tree must take them.
+TEST_P(KdRobustness, DenormalCoordinates) {
+  const TriangleSoA base = random_soup(400, 15, {{-1, -1, -1}, {1, 1, 1}}, 0.5f);
+  const float subnormals[] = {1e-39f, 3e-41f, 1e-42f, std::numeric_limits<float>::denorm_min()};
+  ASSERT_EQ(std::fpclassify(subnormals[0]), FP_SUBNORMAL);
+  TriangleSoA snapped;
+  TestRng rng(16);
+  std::size_t replaced = 0;
+  for (std::size_t i = 0; i < base.size(); ++i) {
+    glm::vec3 v[3];
+    for (int k = 0; k < 3; ++k) {
+      v[k] = base.vertex(i, k);
+      for (int axis = 0; axis < 3; ++axis)
+        if (std::fabs(v[k][axis]) < 0.15f) {
+          v[k][axis] = std::copysign(subnormals[rng.below(4)], v[k][axis]);
+          ++replaced;
+        }
+    }
+    snapped.push_back(v[0], v[1], v[2]);
+  }
+  // A few triangles of subnormal size at the origin, inside the ordinary scene.
+  for (float s : subnormals) snapped.push_back({0.0f, 0.0f, 0.0f}, {s, 0.0f, 0.0f}, {0.0f, s, s});
+  ASSERT_GT(replaced, 100u);
+  EXPECT_GT(expect_matches_oracle(snapped, 600, "subnormal coordinates", isa()), 0u);
+
+  const TriangleSoA tiny = scaled(base, 1e-40f);
+  const KdTree kd(tiny, {}, isa());
+  EXPECT_TRUE(std::isfinite(kd.bounds().lo.x) && std::isfinite(kd.bounds().hi.x));
+  expect_matches_oracle(tiny, 300, "scale 1e-40", isa());
+}
+
 // Triangles with NaN or infinite corners are left out of the tree; the oracle never hits
 // them either.
 TEST_P(KdRobustness, NonFiniteTriangles) {

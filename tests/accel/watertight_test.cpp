@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 
 namespace lancer {
 namespace {
@@ -94,6 +95,26 @@ TEST(Watertight, SharedEdgeIsClosed) {
     }
   }
   EXPECT_EQ(misses, 0);
+}
+
+// A triangle of subnormal size 0.48 away from the ray's line: after the shear its three
+// corners share x and differ in y by subnormals, so the edge functions are of mixed sign
+// or zero exactly, but rounded back to float (as in the paper) they read {0, 0, +tiny}
+// and the kernel reported a hit at t = -0. Found by KdRobustness.DenormalCoordinates.
+TEST(Watertight, SubnormalTriangleOffTheRayNeverHits) {
+  const float d = std::numeric_limits<float>::denorm_min();
+  Ray r;
+  r.org = {9.47025528e-41f, -1.00000022e-39f, 0.479814291f};
+  r.dir = {0.218123734f, 0.875024021f, -0.812284112f};
+  TriangleHit h;
+  EXPECT_FALSE(hit(r, h, {0.0f, 0.0f, 0.0f}, {d, 0.0f, 0.0f}, {0.0f, d, d})) << "t " << h.t;
+  // The same triangle scaled up 2^100 (exact) is hit by a ray aimed at it, and missed by this one.
+  const float s = std::ldexp(1.0f, 100);
+  EXPECT_FALSE(hit(r, h, {0.0f, 0.0f, 0.0f}, {d * s, 0.0f, 0.0f}, {0.0f, d * s, d * s}));
+  Ray aimed;
+  aimed.org = glm::vec3(d * s * 0.25f, d * s * 0.25f, 1.0f);
+  aimed.dir = {0.0f, 0.0f, -1.0f};
+  EXPECT_TRUE(hit(aimed, h, {0.0f, 0.0f, 0.0f}, {d * s, 0.0f, 0.0f}, {0.0f, d * s, d * s}));
 }
 
 TEST(Watertight, NanRayNeverHits) {

@@ -37,6 +37,7 @@
 
 #include <cstdint>
 #include <cstring>
+#include <limits>
 
 #include "accel/kd_traverse-inl.h"
 #include "accel/kd_packet_setup-inl.h"
@@ -146,69 +147,80 @@ inline std::uint32_t split_lanes(NodeWords n, const PacketRays& p, const PacketE
 }
 
 // Lane i's closest hit by the oracle's rule: smaller t, or equal t and a lower triangle
-// index (so the order of the tests does not matter).
-inline void keep_closest(PacketRays& p, int i, float t, float u, float v, std::uint32_t prim) {
+// index (so the order of the tests does not matter). V, W, det as in PacketRays.
+inline void keep_closest(PacketRays& p, int i, float t, float V, float W, float det, std::uint32_t prim) {
   if (t < p.best_t[i] || (t == p.best_t[i] && prim < p.best_prim[i])) {
-    p.best_t[i] = t, p.best_u[i] = u, p.best_v[i] = v, p.best_prim[i] = prim;
+    p.best_t[i] = t, p.best_V[i] = V, p.best_W[i] = W, p.best_det[i] = det, p.best_prim[i] = prim;
     p.limit[i] = next_up(t);
   }
 }
 
+// keep_closest for the lanes `hit` of the vector at offset o, all with triangle prim:
+// masked stores instead of a scalar loop over the lanes.
+template <int N>
+inline void keep_closest_lanes(PacketRays& p, int o, vbool<N> hit, vfloat<N> t, vfloat<N> V, vfloat<N> W,
+                               vfloat<N> det, std::uint32_t prim) {
+  const Lanes<N> w;
+  const vfloat<N> zero(0.0f), best = load(w, p.best_t + o);
+  std::int32_t* best_prim = reinterpret_cast<std::int32_t*>(p.best_prim) + o;
+  // Unsigned order of triangle indices through signed compares (kNoHit is the largest).
+  const vint<N> bias(std::numeric_limits<std::int32_t>::min()), id(static_cast<std::int32_t>(prim));
+  const vbool<N> lower = (id ^ bias) < (load(w, best_prim) ^ bias);
+  const vbool<N> closer = hit & ((t < best) | ((t == best) & lower));
+  // next_up(t), as kd::next_up: one ulp towards +inf, the least subnormal above a zero.
+  const vint<N> bits = as_int(t), one(1);
+  const vfloat<N> up =
+      select(t > zero, as_float(bits + one), select(t < zero, as_float(bits - one), vfloat<N>(0x1p-149f)));
+  store(closer, p.best_t + o, t);
+  store(closer, p.limit + o, up);
+  store(closer, p.best_V + o, V);
+  store(closer, p.best_W + o, W);
+  store(closer, p.best_det + o, det);
+  store(closer, best_prim, id);
+}
+
 // The watertight test of one triangle (A, B, C: its vertices minus the ray origins, in
 // the sheared axis order) against the lanes m of vector v, keeping each lane's closest.
-// watertight.h's operations in its order, as test_lanes in kd_traverse-inl.h.
 template <int N>
-__attribute__((always_inline)) inline void test_triangle(const KdTreeView& tree, const Ray* rays, PacketRays& p, std::uint32_t slot, int v,
-                          std::uint32_t m, vfloat<N> Ax, vfloat<N> Ay, vfloat<N> Az, vfloat<N> Bx, vfloat<N> By,
-                          vfloat<N> Bz, vfloat<N> Cx, vfloat<N> Cy, vfloat<N> Cz) {
+__attribute__((always_inline)) inline void test_triangle(const KdTreeView& tree, const Ray* rays, PacketRays& p,
+                                                         std::uint32_t slot, int v, std::uint32_t m, vfloat<N> Ax,
+                                                         vfloat<N> Ay, vfloat<N> Az, vfloat<N> Bx, vfloat<N> By,
+                                                         vfloat<N> Bz, vfloat<N> Cx, vfloat<N> Cy, vfloat<N> Cz) {
   const Lanes<N> w;
   const int o = v * N;
-  const vfloat<N> zero(0.0f);
-  const vfloat<N> sx = load(w, p.shear[0] + o), sy = load(w, p.shear[1] + o);
-  const vfloat<N> ax = Ax - sx * Az, ay = Ay - sy * Az;
-  const vfloat<N> bx = Bx - sx * Bz, by = By - sy * Bz;
-  const vfloat<N> cx = Cx - sx * Cz, cy = Cy - sy * Cz;
-  const vfloat<N> U = cx * by - cy * bx;
-  const vfloat<N> V = ax * cy - ay * cx;
-  const vfloat<N> W = bx * ay - by * ax;
-  const vbool<N> is_zero = (U == zero) | (V == zero) | (W == zero);
-  const vbool<N> negative = (U < zero) | (V < zero) | (W < zero);
-  const vbool<N> positive = (U > zero) | (V > zero) | (W > zero);
-  const vbool<N> mixed_signs = negative & positive;
-  const std::uint32_t zero_bits = static_cast<std::uint32_t>(movemask(is_zero)) & m;
-  // Most rays miss most triangles: skip the (exact, slow) division when no lane can hit.
-  if (((~static_cast<std::uint32_t>(movemask(mixed_signs)) & m) | zero_bits) == 0) return;
-  const vfloat<N> sz = load(w, p.shear[2] + o);
-  const vfloat<N> det = U + V + W;
-  const vfloat<N> az = sz * Az, bz = sz * Bz, cz = sz * Cz;
-  const vfloat<N> T = U * az + V * bz + W * cz;
-  const vfloat<N> t = T / det;
-  const vfloat<N> tnear = load(w, p.tnear + o), limit = load(w, p.limit + o);
-  const vbool<N> in_range = (t >= tnear) & (t < limit) & (det != zero);
-  const std::uint32_t hit_bits =
-      static_cast<std::uint32_t>(movemask(andnot(andnot(in_range, mixed_signs), is_zero))) & m;
-  std::uint32_t todo = hit_bits | zero_bits;
+  const kd::LaneTest<N> lt = kd::test_relative<N, true>(
+      Ax, Ay, Az, Bx, By, Bz, Cx, Cy, Cz, load(w, p.shear[0] + o), load(w, p.shear[1] + o), load(w, p.shear[2] + o),
+      load(w, p.tnear + o), load(w, p.limit + o), static_cast<int>(m));
+  if (lt.hit_bits != 0)
+    keep_closest_lanes<N>(p, o, mask_from_bits(w, lt.hit_bits), lt.t, lt.V, lt.W, lt.det,
+                          tree.prims[slot]);  // a leaf's [begin, end) holds no padding
+  for (int todo = lt.zero_bits; todo != 0; todo &= todo - 1) {
+    const int i = o + __builtin_ctz(static_cast<unsigned>(todo));
+    float tuv[3];
+    if (kd_slot_hit(tree, rays[i], slot, p.limit[i], tuv)) keep_closest(p, i, tuv[0], tuv[1], tuv[2], 1.0f, tree.prims[slot]);
+  }
+}
+
+// Lane i's hits among a vector test of N triangles from `slot` (keep_closest for each).
+template <int N>
+__attribute__((always_inline)) inline void keep_lane_hits(const KdTreeView& tree, const Ray* rays, PacketRays& p,
+                                                          int i, std::uint32_t slot, const kd::LaneTest<N>& lt) {
+  int todo = lt.hit_bits | lt.zero_bits;
   if (todo == 0) return;
   alignas(64) float ts[N], vs[N], ws[N], dets[N];
-  store(ts, t);
-  store(vs, V);
-  store(ws, W);
-  store(dets, det);
+  store(ts, lt.t);
+  store(vs, lt.V);
+  store(ws, lt.W);
+  store(dets, lt.det);
   for (; todo != 0; todo &= todo - 1) {
-    const int l = __builtin_ctz(todo);
-    const int i = o + l;
-    float th, uh, vh;
-    if ((zero_bits >> l) & 1u) {
+    const int l = __builtin_ctz(static_cast<unsigned>(todo));
+    const std::uint32_t prim = tree.prims[slot + l];
+    if ((lt.zero_bits >> l) & 1) {
       float tuv[3];
-      if (!kd_slot_hit(tree, rays[i], slot, p.limit[i], tuv)) continue;
-      th = tuv[0], uh = tuv[1], vh = tuv[2];
+      if (kd_slot_hit(tree, rays[i], slot + l, p.limit[i], tuv)) keep_closest(p, i, tuv[0], tuv[1], tuv[2], 1.0f, prim);
     } else {
-      th = ts[l];
-      const float inv = 1.0f / dets[l];
-      uh = vs[l] * inv;
-      vh = ws[l] * inv;
+      keep_closest(p, i, ts[l], vs[l], ws[l], dets[l], prim);
     }
-    keep_closest(p, i, th, uh, vh, tree.prims[slot]);  // a leaf's [begin, end) holds no padding
   }
 }
 
@@ -261,14 +273,20 @@ inline std::uint32_t frustum_keep(const Frustum& f, vfloat<N> Ax, vfloat<N> Ay, 
   const vfloat<N> zero(0.0f);
   const vfloat<N> xlo(f.sx_lo), xhi(f.sx_hi), ylo(f.sy_lo), yhi(f.sy_hi);
   const vbool<N> ap = Az > zero, bp = Bz > zero, cp = Cz > zero;
-  const vbool<N> left = (Ax - select(ap, xlo, xhi) * Az < zero) & (Bx - select(bp, xlo, xhi) * Bz < zero) &
-                        (Cx - select(cp, xlo, xhi) * Cz < zero);
-  const vbool<N> right = (Ax - select(ap, xhi, xlo) * Az > zero) & (Bx - select(bp, xhi, xlo) * Bz > zero) &
-                         (Cx - select(cp, xhi, xlo) * Cz > zero);
-  const vbool<N> below = (Ay - select(ap, ylo, yhi) * Az < zero) & (By - select(bp, ylo, yhi) * Bz < zero) &
-                         (Cy - select(cp, ylo, yhi) * Cz < zero);
-  const vbool<N> above = (Ay - select(ap, yhi, ylo) * Az > zero) & (By - select(bp, yhi, ylo) * Bz > zero) &
-                         (Cy - select(cp, yhi, ylo) * Cz > zero);
+  // Each vertex's largest (hi) and smallest (lo) sheared x and y over the lanes. Named
+  // first so that the width-1 case combines plain bools, never calls, with &.
+  const vfloat<N> ax_hi = Ax - select(ap, xlo, xhi) * Az, ax_lo = Ax - select(ap, xhi, xlo) * Az;
+  const vfloat<N> bx_hi = Bx - select(bp, xlo, xhi) * Bz, bx_lo = Bx - select(bp, xhi, xlo) * Bz;
+  const vfloat<N> cx_hi = Cx - select(cp, xlo, xhi) * Cz, cx_lo = Cx - select(cp, xhi, xlo) * Cz;
+  const vfloat<N> ay_hi = Ay - select(ap, ylo, yhi) * Az, ay_lo = Ay - select(ap, yhi, ylo) * Az;
+  const vfloat<N> by_hi = By - select(bp, ylo, yhi) * Bz, by_lo = By - select(bp, yhi, ylo) * Bz;
+  const vfloat<N> cy_hi = Cy - select(cp, ylo, yhi) * Cz, cy_lo = Cy - select(cp, yhi, ylo) * Cz;
+  const vbool<N> ax_neg = ax_hi < zero, bx_neg = bx_hi < zero, cx_neg = cx_hi < zero;
+  const vbool<N> ax_pos = ax_lo > zero, bx_pos = bx_lo > zero, cx_pos = cx_lo > zero;
+  const vbool<N> ay_neg = ay_hi < zero, by_neg = by_hi < zero, cy_neg = cy_hi < zero;
+  const vbool<N> ay_pos = ay_lo > zero, by_pos = by_lo > zero, cy_pos = cy_lo > zero;
+  const vbool<N> left = ax_neg & bx_neg & cx_neg, right = ax_pos & bx_pos & cx_pos;
+  const vbool<N> below = ay_neg & by_neg & cy_neg, above = ay_pos & by_pos & cy_pos;
   return ~static_cast<std::uint32_t>(movemask(left | right | below | above));
 }
 
@@ -300,29 +318,7 @@ __attribute__((always_inline)) inline void ray_vs_slots(const KdTreeView& tree, 
   lr.row_x = rows[0], lr.row_y = rows[1], lr.row_z = rows[2];
   const float* lanes = tree.blocks + std::size_t(slot / B) * (9 * B) + slot % B;
   const kd::LaneTest<N> lt = kd::test_lanes<N, B>(lanes, lr, vfloat<N>(p.limit[i]));
-  int todo = lt.hit_bits | lt.zero_bits;
-  if (todo == 0) return;
-  alignas(64) float ts[N], vs[N], ws[N], dets[N];
-  store(ts, lt.t);
-  store(vs, lt.V);
-  store(ws, lt.W);
-  store(dets, lt.det);
-  for (; todo != 0; todo &= todo - 1) {
-    const int l = __builtin_ctz(static_cast<unsigned>(todo));
-    const std::uint32_t prim = tree.prims[slot + l];
-    float th, uh, vh;
-    if ((lt.zero_bits >> l) & 1) {
-      float tuv[3];
-      if (!kd_slot_hit(tree, rays[i], slot + l, p.limit[i], tuv)) continue;
-      th = tuv[0], uh = tuv[1], vh = tuv[2];
-    } else {
-      th = ts[l];
-      const float inv = 1.0f / dets[l];
-      uh = vs[l] * inv;
-      vh = ws[l] * inv;
-    }
-    keep_closest(p, i, th, uh, vh, prim);
-  }
+  keep_lane_hits<N>(tree, rays, p, i, slot, lt);
 }
 
 // The leaf the other way round: each active ray against N triangles at a time. Cheaper
@@ -377,7 +373,15 @@ inline void leaf_shared_origin(const KdTreeView& tree, const Ray* rays, PacketRa
         broadcast |= 1ull << v;
         continue;
       }
-      for (; m != 0; m &= m - 1) ray_vs_slots<N, B>(tree, rays, p, v * N + __builtin_ctz(m), group, rows);
+      // Ray by ray against the group's vertices already relative to the shared origin (the
+      // same floats test_lanes would compute), only the kept triangles reported.
+      for (; m != 0; m &= m - 1) {
+        const int i = v * N + __builtin_ctz(m);
+        const kd::LaneTest<N> lt = kd::test_relative<N, true>(
+            Ax, Ay, Az, Bx, By, Bz, Cx, Cy, Cz, vfloat<N>(p.shear[0][i]), vfloat<N>(p.shear[1][i]),
+            vfloat<N>(p.shear[2][i]), vfloat<N>(p.tnear[i]), vfloat<N>(p.limit[i]), static_cast<int>(keep));
+        keep_lane_hits<N>(tree, rays, p, i, group, lt);
+      }
     }
     for (std::uint32_t todo_t = broadcast != 0 ? keep : 0; todo_t != 0; todo_t &= todo_t - 1) {
       const int l = __builtin_ctz(todo_t);
@@ -547,6 +551,7 @@ void kd_intersect_packet(const KdTreeView& tree, const Ray* rays, Hit* hits, int
     p.tnear[i] = r.tnear;
     p.limit[i] = r.tfar;
     p.best_t[i] = r.tfar;
+    p.best_det[i] = 1.0f;
     // WatertightRay's permutation and shear.
     float ad[3];
     for (int a = 0; a < 3; ++a) ad[a] = d[a] < 0.0f ? -d[a] : d[a];
@@ -576,9 +581,23 @@ void kd_intersect_packet(const KdTreeView& tree, const Ray* rays, Hit* hits, int
     else
       kdp::traverse_class<N, B, false>(tree, rays, p, p.klass[k], nvec, k / 2, (k & 1) != 0);
   }
-  for (std::uint64_t todo = packet; todo != 0; todo &= todo - 1) {
-    const int i = __builtin_ctzll(todo);
-    hits[i] = p.best_prim[i] == kNoHit ? kd::miss() : Hit{p.best_t[i], p.best_prim[i], p.best_u[i], p.best_v[i]};
+  // u = V * (1 / det), v likewise: the single-ray kernel's operations, a vector at a time.
+  const Lanes<N> w;
+  alignas(64) float u[kdp::kMaxPacket], v[kdp::kMaxPacket];
+  for (int k = 0; packet != 0 && k < nvec; ++k) {
+    const int o = k * N;
+    const vfloat<N> inv = vfloat<N>(1.0f) / load(w, p.best_det + o);
+    store(u + o, load(w, p.best_V + o) * inv);
+    store(v + o, load(w, p.best_W + o) * inv);
+  }
+  const auto write_hit = [&](int i) {
+    const bool hit = p.best_prim[i] != kNoHit;  // branch-free: the compiler vectorises the full loop
+    hits[i] = Hit{hit ? p.best_t[i] : kInfinity, p.best_prim[i], hit ? u[i] : 0.0f, hit ? v[i] : 0.0f};
+  };
+  if (count == kdp::kMaxPacket && packet == ~0ull) {
+    for (int i = 0; i < kdp::kMaxPacket; ++i) write_hit(i);
+  } else {
+    for (std::uint64_t todo = packet; todo != 0; todo &= todo - 1) write_hit(__builtin_ctzll(todo));
   }
 }
 

@@ -41,11 +41,15 @@ struct PacketRays {
   alignas(64) float tnear[kMaxPacket];
   alignas(64) float limit[kMaxPacket];  // tfar, then next_up(best_t) once there is a hit
   alignas(64) float best_t[kMaxPacket];
-  alignas(64) float best_u[kMaxPacket];
-  alignas(64) float best_v[kMaxPacket];
+  // The closest hit's edge functions V, W and their sum det (1 for a hit the scalar kernel
+  // found, with V = u, W = v): u = V * (1 / det) is computed once per ray at the end, with
+  // the single-ray kernel's operations, instead of once per candidate hit.
+  alignas(64) float best_V[kMaxPacket];
+  alignas(64) float best_W[kMaxPacket];
+  alignas(64) float best_det[kMaxPacket];
   alignas(64) float t0[kMaxPacket];
   alignas(64) float t1[kMaxPacket];
-  std::uint32_t best_prim[kMaxPacket];
+  alignas(64) std::uint32_t best_prim[kMaxPacket];
   std::uint64_t parallel[3];  // bit i: dir[axis] == 0 for ray i
   std::uint64_t negative[3];  // bit i: dir[axis] < 0
   std::uint64_t klass[6];     // rays by shear permutation: 2 * kz + (dir[kz] < 0)
@@ -70,7 +74,7 @@ inline float max_extent_up(const Bounds3& b) {
 }
 
 // Sets up lanes [0, count) of p (org, inv_dir, abs_slack, t0, t1, tnear, limit, best_t,
-// negative, the shear and the permutation classes) where float is safe; lanes that miss
+// best_det, negative, the shear and the permutation classes) where float is safe; lanes that miss
 // the scene box get hits[i] = miss. PacketRays must be zeroed and best_prim filled.
 template <int N>
 SetupMasks setup_vectors(const KdTreeView& tree, const Ray* rays, int count, PacketRays& p, Hit* hits) {
@@ -150,6 +154,7 @@ SetupMasks setup_vectors(const KdTreeView& tree, const Ray* rays, int count, Pac
     store(p.tnear + o, tnear);
     store(p.limit + o, tfar);
     store(p.best_t + o, tfar);
+    store(p.best_det + o, one);
 
     // WatertightRay's permutation (kz the dominant axis, kx and ky swapped when dir[kz] < 0)
     // and shear, with the same float divisions, so the leaf test sees the same constants.
@@ -169,7 +174,7 @@ SetupMasks setup_vectors(const KdTreeView& tree, const Ray* rays, int count, Pac
     store(p.sorg[2] + o, oz);
     store(p.shear[0] + o, select(swapped, dy0, dx0) / dz);
     store(p.shear[1] + o, select(swapped, dx0, dy0) / dz);
-    store(p.shear[2] + o, one / dz);
+    store(p.shear[2] + o, select(kz0, inv[0], select(kz1, inv[1], inv[2])));  // 1 / dz, already divided
     const vbool<N> kz[3] = {kz0, kz1, kz2};
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t straight = static_cast<std::uint32_t>(movemask(andnot(kz[k], swapped))) & in_bits;

@@ -221,6 +221,48 @@ struct LaneTest {
   vfloat<N> t, V, W, det;
 };
 
+// The watertight test (watertight.h's operations in its order) of vertices A, B, C already
+// relative to the ray origins, in the sheared axis order, with the shear constants sx, sy,
+// sz: for N triangles and one ray, N rays and one triangle, or N pairs. With EarlyOut, the
+// division is skipped (and nothing reported) when no lane of `live` can hit: the lanes
+// that would be reported are the same.
+template <int N, bool EarlyOut = false>
+__attribute__((always_inline)) inline LaneTest<N> test_relative(vfloat<N> Ax, vfloat<N> Ay, vfloat<N> Az,
+                                                                vfloat<N> Bx, vfloat<N> By, vfloat<N> Bz,
+                                                                vfloat<N> Cx, vfloat<N> Cy, vfloat<N> Cz,
+                                                                vfloat<N> sx, vfloat<N> sy, vfloat<N> sz,
+                                                                vfloat<N> tnear, vfloat<N> limit, int live = -1) {
+  const vfloat<N> ax = Ax - sx * Az, ay = Ay - sy * Az;
+  const vfloat<N> bx = Bx - sx * Bz, by = By - sy * Bz;
+  const vfloat<N> cx = Cx - sx * Cz, cy = Cy - sy * Cz;
+
+  LaneTest<N> out;
+  const vfloat<N> U = cx * by - cy * bx;
+  out.V = ax * cy - ay * cx;
+  out.W = bx * ay - by * ax;
+  const vfloat<N> zero(0.0f);
+  const vbool<N> is_zero = (U == zero) | (out.V == zero) | (out.W == zero);
+  const vbool<N> negative = (U < zero) | (out.V < zero) | (out.W < zero);
+  const vbool<N> positive = (U > zero) | (out.V > zero) | (out.W > zero);
+  const vbool<N> mixed_signs = negative & positive;
+  out.zero_bits = movemask(is_zero) & live;
+  if constexpr (EarlyOut) {
+    // Most rays miss most triangles: skip the (exact, slow) division when no lane can hit.
+    if (((~movemask(mixed_signs) & live) | out.zero_bits) == 0) {
+      out.hit_bits = 0;
+      return out;
+    }
+  }
+  out.det = U + out.V + out.W;
+  const vfloat<N> az = sz * Az, bz = sz * Bz, cz = sz * Cz;
+  const vfloat<N> T = U * az + out.V * bz + out.W * cz;
+  out.t = T / out.det;
+  // det != 0 is true for NaN, whose t is NaN and fails the range test (padding lanes).
+  const vbool<N> in_range = (out.t >= tnear) & (out.t < limit) & (out.det != zero);
+  out.hit_bits = movemask(andnot(andnot(in_range, mixed_signs), is_zero)) & live;
+  return out;
+}
+
 // Watertight test of N consecutive slots (`lanes` points at lane 0 of the x row of vertex
 // 0 in their block), in watertight.h's order of operations.
 template <int N, int B>
@@ -232,28 +274,7 @@ inline LaneTest<N> test_lanes(const float* lanes, const LeafRay<N>& r, vfloat<N>
   const vfloat<N> Bz = load(w, lanes + r.row_z + B) - r.oz;
   const vfloat<N> Cx = load(w, lanes + r.row_x + 2 * B) - r.ox, Cy = load(w, lanes + r.row_y + 2 * B) - r.oy;
   const vfloat<N> Cz = load(w, lanes + r.row_z + 2 * B) - r.oz;
-  const vfloat<N> ax = Ax - r.sx * Az, ay = Ay - r.sy * Az;
-  const vfloat<N> bx = Bx - r.sx * Bz, by = By - r.sy * Bz;
-  const vfloat<N> cx = Cx - r.sx * Cz, cy = Cy - r.sy * Cz;
-
-  LaneTest<N> out;
-  const vfloat<N> U = cx * by - cy * bx;
-  out.V = ax * cy - ay * cx;
-  out.W = bx * ay - by * ax;
-  const vfloat<N> zero(0.0f);
-  const vbool<N> is_zero = (U == zero) | (out.V == zero) | (out.W == zero);
-  const vbool<N> negative = (U < zero) | (out.V < zero) | (out.W < zero);
-  const vbool<N> positive = (U > zero) | (out.V > zero) | (out.W > zero);
-  out.det = U + out.V + out.W;
-  const vfloat<N> az = r.sz * Az, bz = r.sz * Bz, cz = r.sz * Cz;
-  const vfloat<N> T = U * az + out.V * bz + out.W * cz;
-  out.t = T / out.det;
-  // det != 0 is true for NaN, whose t is NaN and fails the range test (padding lanes).
-  const vbool<N> in_range = (out.t >= r.tnear) & (out.t < limit) & (out.det != zero);
-  const vbool<N> mixed_signs = negative & positive;
-  out.hit_bits = movemask(andnot(andnot(in_range, mixed_signs), is_zero));
-  out.zero_bits = movemask(is_zero);
-  return out;
+  return test_relative<N>(Ax, Ay, Az, Bx, By, Bz, Cx, Cy, Cz, r.sx, r.sy, r.sz, r.tnear, limit);
 }
 
 // Counting hooks: NoCounts compiles to nothing.

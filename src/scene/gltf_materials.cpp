@@ -1,5 +1,7 @@
 #include "scene/gltf_materials.h"
 
+#include <cmath>
+
 #include <tiny_gltf.h>
 
 #include "scene/gltf_texture_refs.h"
@@ -64,6 +66,28 @@ void read_volume(const ModelRef& m, const tinygltf::Value& ext, const std::strin
   out.attenuation_color = extension_vec3(m, ext, "attenuationColor", glm::vec3(1.0f), path);
 }
 
+// JSON allows any number, but a factor beyond float's range (1e39, say) becomes an
+// infinity here and NaN in the image: refuse it, naming the material. Only the
+// attenuation distance may be infinite (its default: no attenuation).
+void require_finite_factors(const ModelRef& m, const Material& out, const std::string& what) {
+  const glm::vec3 emission = out.emission();
+  for (const float x : {out.base_color.r, out.base_color.g, out.base_color.b, out.base_color.a, out.metallic,
+                        out.roughness, emission.r, emission.g, emission.b, out.alpha_cutoff, out.ior,
+                        out.transmission, out.specular, out.specular_color.r, out.specular_color.g,
+                        out.specular_color.b, out.thickness, out.attenuation_color.r, out.attenuation_color.g,
+                        out.attenuation_color.b})
+    if (!std::isfinite(x)) throw SceneError(m.file, what + ": a factor is beyond the range of float");
+  for (const TextureRef* t : {&out.base_color_texture, &out.metallic_roughness_texture, &out.emissive_texture,
+                              &out.normal_texture, &out.occlusion_texture, &out.transmission_texture,
+                              &out.specular_texture, &out.specular_color_texture, &out.thickness_texture}) {
+    bool finite = std::isfinite(t->scale);
+    for (int col = 0; col < 3; ++col)
+      for (int row = 0; row < 3; ++row) finite = finite && std::isfinite(t->transform[col][row]);
+    if (!finite)
+      throw SceneError(m.file, what + ": a texture's scale or KHR_texture_transform is beyond the range of float");
+  }
+}
+
 AlphaMode alpha_mode(const ModelRef& m, const std::string& mode, const std::string& what) {
   if (mode == "OPAQUE") return AlphaMode::Opaque;
   if (mode == "MASK") return AlphaMode::Mask;
@@ -115,6 +139,7 @@ Material convert_material(const ModelRef& m, int index) {
   }
   if (const auto* ext = extension_object(m, g, "KHR_materials_volume", json_path))
     read_volume(m, *ext, json_path + ".extensions.KHR_materials_volume", out);
+  require_finite_factors(m, out, what);
   return out;
 }
 

@@ -198,6 +198,10 @@ void add_light(const ModelRef& m, int node, const glm::dmat4& world, Scene& scen
   if (!(l.range >= 0.0)) throw SceneError(m.file, what + ": range must be positive");
   out.intensity = float(l.intensity);
   out.range = float(l.range);
+  const glm::vec3 radiant = out.color * out.intensity;  // beyond float's range: an infinity
+  if (!std::isfinite(radiant.x) || !std::isfinite(radiant.y) || !std::isfinite(radiant.z) ||
+      !std::isfinite(out.intensity) || !std::isfinite(out.range))
+    throw SceneError(m.file, what + ": color, intensity or range is beyond the range of float");
   if (out.type == LightType::Spot) {
     const double inner = l.spot.innerConeAngle, outer = l.spot.outerConeAngle;
     if (!(inner >= 0.0 && inner <= outer && outer <= std::numbers::pi / 2))

@@ -76,6 +76,66 @@ TEST(Cli, AbsurdOptionsAreRefused) {
   }
 }
 
+// Issue 7's absurd values: each refused before anything is loaded or allocated, with a
+// message naming the option and the allowed range (CLI11's check text).
+TEST(Cli, AbsurdValuesNameTheOptionAndItsRange) {
+  struct Case {
+    std::vector<std::string> args;
+    const char* option;
+  };
+  const Case cases[] = {
+      {{"--spp", "0"}, "--spp"},
+      {{"--spp", "-5"}, "--spp"},
+      {{"--width", "-1"}, "--width"},
+      {{"--width", "0"}, "--width"},
+      {{"--width", "100000", "--height", "100000"}, "--width"},
+      {{"--width", "100000"}, "--width"},  // the height would follow the camera: 100000 too
+      {{"--width", "16", "--height", "100000"}, "--height"},
+      {{"--width", "99999999999999999999"}, "--width"},
+      {{"--spp", "many"}, "--spp"},
+      {{"--time", "0"}, "--time"},
+      {{"--checkpoint", "-1"}, "--checkpoint"},
+  };
+  for (const Case& c : cases) {
+    std::vector<std::string> args = {"render", cornell(), "--no-progress", "-o", (temp_dir() / "absurd.png").string()};
+    args.insert(args.end(), c.args.begin(), c.args.end());
+    const CliResult r = run(args);
+    std::string joined;
+    for (const std::string& a : c.args) joined += a + " ";
+    EXPECT_EQ(r.code, 2) << joined << r.err;
+    EXPECT_NE(r.err.find(c.option), std::string::npos) << joined << ": " << r.err;
+    EXPECT_FALSE(fs::exists(temp_dir() / "absurd.png")) << joined;
+  }
+}
+
+// A scene with nothing that emits light renders (status 0), black, and says why.
+TEST(Cli, SceneWithoutLightRendersBlackWithAWarning) {
+  const fs::path dir = temp_dir();
+  const fs::path obj = dir / "unlit.obj", exr = dir / "unlit.exr";
+  std::ofstream(obj) << "v -1 -1 -3\nv 1 -1 -3\nv 0 1 -3\nf 1 2 3\n";
+  for (const std::string integrator : {"path", "whitted"}) {
+    const CliResult r = run({"render", obj.string(), "--width", "16", "--spp", "2", "--no-progress", "--integrator",
+                             integrator, "-o", exr.string()});
+    ASSERT_EQ(r.code, 0) << integrator << ": " << r.err;
+    EXPECT_NE(r.err.find("warning"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("unlit.obj"), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("no lights"), std::string::npos) << r.err;
+    const ImageRGB image = read_image(exr);
+    ASSERT_EQ(image.width, 16);
+    for (float v : image.rgb) ASSERT_EQ(v, 0.0f) << integrator << ": the unlit scene is not black";
+  }
+  // The same triangle under an emissive material: no warning, and not black (the test can fail).
+  const fs::path lit = dir / "lit.obj", mtl = dir / "lit.mtl";
+  std::ofstream(mtl) << "newmtl glow\nKd 0 0 0\nKe 1 1 1\n";
+  std::ofstream(lit) << "mtllib lit.mtl\nusemtl glow\nv -1 -1 -3\nv 1 -1 -3\nv 0 1 -3\nf 1 2 3\n";
+  const CliResult r = run({"render", lit.string(), "--width", "16", "--spp", "2", "--no-progress", "-o", exr.string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(r.err.find("no lights"), std::string::npos) << r.err;
+  double sum = 0.0;
+  for (float v : read_image(exr).rgb) sum += v;
+  EXPECT_GT(sum, 0.0);
+}
+
 TEST(Cli, MissingSceneNamesTheFile) {
   const CliResult r = run({"render", "/nonexistent/scene.gltf", "-o", (temp_dir() / "x.png").string()});
   EXPECT_EQ(r.code, 1);

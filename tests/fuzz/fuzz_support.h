@@ -80,6 +80,9 @@ inline bool finite(const glm::vec4& v) { return finite(glm::vec3(v)) && std::isf
 inline void check_texture_ref(const Scene& scene, const TextureRef& ref, const std::string& what) {
   require(ref.texture >= -1 && (ref.texture < 0 || std::size_t(ref.texture) < scene.textures.size()),
           what + ": texture index out of range");
+  require(ref.texcoord == 0 || ref.texcoord == 1, what + ": texcoord set other than 0 or 1");
+  require(std::isfinite(ref.scale), what + ": non-finite scale");
+  for (int col = 0; col < 3; ++col) require(finite(ref.transform[col]), what + ": non-finite texture transform");
 }
 
 // What scene.h promises of a loaded scene: aligned per-triangle and per-corner arrays,
@@ -94,6 +97,7 @@ inline void check_scene(const Scene& scene) {
           "per-triangle arrays do not match the triangle count");
   require(scene.normals.size() == 3 * n && scene.texcoords.size() == 3 * n && scene.tangents.size() == 3 * n,
           "per-corner arrays do not match 3x the triangle count");
+  require(scene.texcoords1.empty() || scene.texcoords1.size() == 3 * n, "TEXCOORD_1 neither empty nor per corner");
   require(!scene.materials.empty(), "a loaded scene has no material");
   for (std::size_t i = 0; i < n; ++i) {
     for (int k = 0; k < 3; ++k) require(finite(scene.triangles.vertex(i, k)), "non-finite vertex position");
@@ -106,13 +110,18 @@ inline void check_scene(const Scene& scene) {
   for (const Material& m : scene.materials) {
     require(finite(m.base_color) && std::isfinite(m.metallic) && std::isfinite(m.roughness) &&
                 finite(m.emission()) && std::isfinite(m.alpha_cutoff) && std::isfinite(m.ior) &&
-                std::isfinite(m.transmission) && std::isfinite(m.specular) && finite(m.specular_color),
+                std::isfinite(m.transmission) && std::isfinite(m.specular) && finite(m.specular_color) &&
+                std::isfinite(m.thickness) && m.attenuation_distance > 0.0f && finite(m.attenuation_color),
             "material '" + m.name + "': a non-finite factor");
     check_texture_ref(scene, m.base_color_texture, "material '" + m.name + "' base colour");
     check_texture_ref(scene, m.metallic_roughness_texture, "material '" + m.name + "' metallic-roughness");
     check_texture_ref(scene, m.emissive_texture, "material '" + m.name + "' emissive");
     check_texture_ref(scene, m.normal_texture, "material '" + m.name + "' normal");
     check_texture_ref(scene, m.occlusion_texture, "material '" + m.name + "' occlusion");
+    check_texture_ref(scene, m.transmission_texture, "material '" + m.name + "' transmission");
+    check_texture_ref(scene, m.specular_texture, "material '" + m.name + "' specular");
+    check_texture_ref(scene, m.specular_color_texture, "material '" + m.name + "' specular colour");
+    check_texture_ref(scene, m.thickness_texture, "material '" + m.name + "' thickness");
   }
   for (const Texture& t : scene.textures)
     require(t.image >= -1 && (t.image < 0 || std::size_t(t.image) < scene.images.size()), "texture image out of range");
@@ -122,7 +131,12 @@ inline void check_scene(const Scene& scene) {
             "image '" + img.name + "': pixel count does not match its size");
   for (const CameraDesc& cam : scene.cameras) {
     require(cam.yfov > 0.0f && cam.yfov < 3.1416f, "camera '" + cam.name + "': yfov out of (0, pi)");
-    for (int col = 0; col < 4; ++col) require(finite(cam.camera_to_world[col]), "camera '" + cam.name + "': non-finite transform");
+    for (int col = 0; col < 4; ++col)
+      require(finite(cam.camera_to_world[col]), "camera '" + cam.name + "': non-finite transform");
+    require(!cam.aperture_radius || (std::isfinite(*cam.aperture_radius) && *cam.aperture_radius >= 0.0f),
+            "camera '" + cam.name + "': bad aperture");
+    require(!cam.focus_distance || (std::isfinite(*cam.focus_distance) && *cam.focus_distance > 0.0f),
+            "camera '" + cam.name + "': bad focus distance");
   }
   for (const PunctualLight& l : scene.lights)
     require(finite(l.color) && std::isfinite(l.intensity) && finite(l.position) && finite(l.direction) &&

@@ -1,6 +1,6 @@
 // libFuzzer target for the glTF reader: each input is read from memory twice, once as a
 // .gltf (JSON, or binary when it starts with the GLB magic) and once as a .glb. Relative
-// buffer and image URIs resolve against an empty scratch folder.
+// buffer and image URIs resolve against a scratch folder holding only texture.png.
 // A SceneError is the expected answer to bad input; anything else (a crash, a sanitizer
 // report, another exception, a scene that breaks fuzz_support.h's checks) is a finding.
 #include <cstddef>

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <glm/geometric.hpp>
 
 #include "scene/gltf_reader.h"
@@ -253,6 +254,22 @@ TEST_F(GltfContent, GlbExternalBinAndDataUriGiveTheSameScene) {
     b.write_glb(path("binary_named.gltf"));
     expect_same_scene(embedded, read_gltf(path("binary_named.gltf")));
   }
+}
+
+// Subnormal positions are finite: kept bit for bit (the identity transform is exact), and
+// a triangle of subnormal size is not zero area (the check is in double).
+TEST_F(GltfContent, SubnormalPositionsAreKept) {
+  const float d = std::numeric_limits<float>::denorm_min();
+  GltfBuilder b;
+  b.single_node_scene(b.add_mesh(
+      {{"POSITION", b.add_vec3({{1e-40f, 0, 0}, {1, -3e-42f, 0}, {0, 1, d}, {0, 0, 0}, {d, 0, 0}, {0, d, 0}})}}));
+  b.write_glb(path("subnormal.glb"));
+  const Scene s = read_gltf(path("subnormal.glb"));
+  ASSERT_EQ(s.triangle_count(), 2u);
+  EXPECT_EQ(s.triangles.vertex(0, 0), glm::vec3(1e-40f, 0, 0));
+  EXPECT_EQ(s.triangles.vertex(0, 1), glm::vec3(1, -3e-42f, 0));
+  EXPECT_EQ(s.triangles.vertex(0, 2), glm::vec3(0, 1, d));
+  EXPECT_EQ(s.triangles.vertex(1, 1), glm::vec3(d, 0, 0));
 }
 
 TEST_F(GltfContent, SupportedRequiredExtensionsLoad) {

@@ -193,6 +193,9 @@ TEST_F(ObjReader, NonFiniteAndMalformedNumbersAreRefused) {
   // Underflow is a 0, not an error.
   const Scene tiny = read_obj(write("tiny.obj", "v 1e-400 0 0\n" + tail));
   EXPECT_EQ(tiny.triangles.vertex(0, 0), glm::vec3(0.0f));
+  // Subnormals are finite: kept as written.
+  const Scene sub = read_obj(write("subnormal.obj", "v 1e-40 -3e-42 1.4e-45\n" + tail));
+  EXPECT_EQ(sub.triangles.vertex(0, 0), glm::vec3(1e-40f, -3e-42f, 1.4e-45f));
 }
 
 TEST_F(ObjReader, MalformedFacesAndGarbageLines) {

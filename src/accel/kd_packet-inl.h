@@ -168,9 +168,10 @@ inline void keep_closest_lanes(PacketRays& p, int o, vbool<N> hit, vfloat<N> t, 
   const vbool<N> lower = (id ^ bias) < (load(w, best_prim) ^ bias);
   const vbool<N> closer = hit & ((t < best) | ((t == best) & lower));
   // next_up(t), as kd::next_up: one ulp towards +inf, the least subnormal above a zero.
-  const vint<N> bits = as_int(t), one(1);
+  // On the magnitude's bits, so that no lane's integer step can overflow (-0 is INT_MIN).
+  const vint<N> mag = as_int(abs(t)), one(1);
   const vfloat<N> up =
-      select(t > zero, as_float(bits + one), select(t < zero, as_float(bits - one), vfloat<N>(0x1p-149f)));
+      select(t > zero, as_float(mag + one), select(t < zero, -as_float(mag - one), vfloat<N>(0x1p-149f)));
   store(closer, p.best_t + o, t);
   store(closer, p.limit + o, up);
   store(closer, p.best_V + o, V);

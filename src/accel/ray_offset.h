@@ -78,10 +78,13 @@ inline glm::vec3 offset_ray_origin(const glm::vec3& p, const glm::vec3& n) {
   constexpr float kIntScale = 256.0f;
   glm::vec3 out;
   for (int i = 0; i < 3; ++i) {
+    if (std::fabs(p[i]) < kOriginZone) {  // near 0 ulps are too small to move by (and -0 + -k overflows)
+      out[i] = p[i] + kFloatScale * n[i];
+      continue;
+    }
     const auto ulps = static_cast<std::int32_t>(kIntScale * n[i]);
     const auto bits = std::bit_cast<std::int32_t>(p[i]);
-    const float moved = std::bit_cast<float>(bits + (p[i] < 0.0f ? -ulps : ulps));
-    out[i] = std::fabs(p[i]) < kOriginZone ? p[i] + kFloatScale * n[i] : moved;
+    out[i] = std::bit_cast<float>(bits + (p[i] < 0.0f ? -ulps : ulps));
   }
   return out;
 }

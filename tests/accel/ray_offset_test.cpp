@@ -11,6 +11,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -27,7 +28,10 @@ using test::KdIsaTest;
 using test::TestRng;
 
 TEST(RayOffset, MovesAlongTheNormalSide) {
-  for (const glm::vec3 p : {glm::vec3(0.0f), glm::vec3(1e-3f, -2e-3f, 0.0f), glm::vec3(12.5f, -300.0f, 4e4f)}) {
+  // Includes -0 and negative subnormals, whose bit patterns sit at the bottom of int32.
+  const float dmin = std::numeric_limits<float>::denorm_min();
+  for (const glm::vec3 p : {glm::vec3(0.0f), glm::vec3(1e-3f, -2e-3f, 0.0f), glm::vec3(12.5f, -300.0f, 4e4f),
+                            glm::vec3(-0.0f, -dmin, -1e-40f)}) {
     for (const glm::vec3 n : {glm::vec3(0, 0, 1), glm::vec3(0, -1, 0), glm::vec3(0.6f, 0.0f, -0.8f)}) {
       const glm::vec3 q = offset_ray_origin(p, n);
       for (int i = 0; i < 3; ++i) {

@@ -17,6 +17,7 @@
 #include "render/renderer.h"
 #include "scene/load_scene.h"
 #include "scene/scene_builder.h"
+#include "image_estimate.h"
 #include "test_paths.h"
 
 namespace lancer {
@@ -107,28 +108,6 @@ std::size_t non_finite(const ImageRGB& image) {
   return std::size_t(std::count_if(image.rgb.begin(), image.rgb.end(), [](float v) { return !std::isfinite(v); }));
 }
 
-// The largest relative difference of 8x8 block means (all channels), relative to the
-// reference block or, for dark blocks, to a tenth of the reference's mean.
-double largest_block_difference(const ImageRGB& image, const ImageRGB& reference) {
-  double mean = 0.0;
-  for (float v : reference.rgb) mean += v;
-  mean /= double(reference.rgb.size());
-  double worst = 0.0;
-  for (int by = 0; by < kSize; by += kBlock)
-    for (int bx = 0; bx < kSize; bx += kBlock) {
-      double a = 0.0, b = 0.0;
-      for (int y = by; y < by + kBlock; ++y)
-        for (int x = bx; x < bx + kBlock; ++x)
-          for (int c = 0; c < 3; ++c) {
-            const std::size_t i = 3 * (std::size_t(y) * kSize + std::size_t(x)) + std::size_t(c);
-            a += image.rgb[i];
-            b += reference.rgb[i];
-          }
-      worst = std::max(worst, std::fabs(a - b) / std::max(b, 0.1 * mean * 3 * kBlock * kBlock));
-    }
-  return worst;
-}
-
 // The same seed makes both renders follow the same paths wherever the geometry answers the
 // same, so the blocks agree far more closely than noise allows (offset_reference_test
 // measures acne at 7 % of a block at this size and sample count).
@@ -139,7 +118,7 @@ TEST(DegenerateGeometryRender, DuplicateTrianglesChangeNothing) {
   ASSERT_EQ(dup.triangle_count(), 2 * cornell().triangle_count() - 2);
   const ImageRGB reference = render(cornell(), 32), image = render(dup, 32);
   EXPECT_EQ(non_finite(image), 0u);
-  const double worst = largest_block_difference(image, reference);
+  const double worst = test::largest_block_difference(image, reference, kBlock);
   std::printf("[ info     ] largest block difference with duplicates: %.5f\n", worst);
   EXPECT_LT(worst, kTolerance);
 }
@@ -148,7 +127,7 @@ TEST(DegenerateGeometryRender, SubnormalPositionsChangeNothing) {
   const Scene sub = with_subnormals(cornell());
   const ImageRGB reference = render(cornell(), 32), image = render(sub, 32);
   EXPECT_EQ(non_finite(image), 0u);
-  const double worst = largest_block_difference(image, reference);
+  const double worst = test::largest_block_difference(image, reference, kBlock);
   std::printf("[ info     ] largest block difference with subnormal positions: %.5f\n", worst);
   EXPECT_LT(worst, kTolerance);
 }

@@ -27,6 +27,7 @@
 #include "render/renderer.h"
 #include "scene/load_scene.h"
 #include "scene/procedural.h"
+#include "image_estimate.h"
 #include "test_paths.h"
 
 namespace lancer {
@@ -114,29 +115,6 @@ ImageRGB render(const Accelerator& accel, const PinholeCamera& camera, int spp) 
   return render_image(cornell(), accel, camera, s, stats);
 }
 
-// The largest relative difference between the two images' 8x8 pixel block means (over
-// the three channels), relative to the reference block or, for dark blocks, to a tenth of
-// the reference image's mean.
-double largest_block_difference(const ImageRGB& image, const ImageRGB& reference) {
-  double mean = 0.0;
-  for (float v : reference.rgb) mean += v;
-  mean /= double(reference.rgb.size());
-  double worst = 0.0;
-  for (int by = 0; by < kSize; by += kBlock)
-    for (int bx = 0; bx < kSize; bx += kBlock) {
-      double a = 0.0, b = 0.0;
-      for (int y = by; y < by + kBlock; ++y)
-        for (int x = bx; x < bx + kBlock; ++x)
-          for (int c = 0; c < 3; ++c) {
-            const std::size_t i = 3 * (std::size_t(y) * kSize + std::size_t(x)) + std::size_t(c);
-            a += image.rgb[i];
-            b += reference.rgb[i];
-          }
-      worst = std::max(worst, std::fabs(a - b) / std::max(b, 0.1 * mean * 3 * kBlock * kBlock));
-    }
-  return worst;
-}
-
 struct View {
   const char* name;
   PinholeCamera camera;
@@ -163,7 +141,7 @@ TEST(OffsetReference, CornellBoxAgreesWithAMuchLargerOffset) {
   for (const View& v : views()) {
     const ImageRGB image = render(kd, v.camera, 32);
     const ImageRGB reference = render(larger, v.camera, 32);
-    EXPECT_LT(largest_block_difference(image, reference), kTolerance) << v.name;
+    EXPECT_LT(test::largest_block_difference(image, reference, kBlock), kTolerance) << v.name;
   }
 }
 
@@ -176,7 +154,8 @@ TEST(OffsetReference, AcneAtGrazingAnglesIsCaught) {
   const ReoffsetAccelerator acne(kd, cornell().triangles, Reoffset::NoneWhenGrazing);
   double worst = 0.0;
   for (const View& v : views())
-    worst = std::max(worst, largest_block_difference(render(acne, v.camera, 32), render(larger, v.camera, 32)));
+    worst = std::max(worst,
+                     test::largest_block_difference(render(acne, v.camera, 32), render(larger, v.camera, 32), kBlock));
   EXPECT_GT(worst, 2.0 * kTolerance);
 }
 

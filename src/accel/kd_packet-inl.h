@@ -35,6 +35,7 @@
 
 #include "simd/isa_namespace.h"
 
+#include <bit>
 #include <cstdint>
 #include <cstring>
 #include <limits>
@@ -292,16 +293,18 @@ inline std::uint32_t frustum_keep(const Frustum& f, vfloat<N> Ax, vfloat<N> Ay, 
 }
 
 // True when the lanes in `mask` share one origin, bit for bit (a camera packet): then
-// a - org is the same float for every lane and is computed once per triangle.
-inline bool same_origin(const PacketRays& p, std::uint64_t mask) {
+// a - org is the same float for every lane and is computed once per triangle. Compared
+// as integers, a vector at a time (every lane of a vector in use holds a value).
+template <int N>
+inline bool same_origin(const PacketRays& p, std::uint64_t mask, int nvec) {
+  const Lanes<N> w;
   const int first = __builtin_ctzll(mask);
   for (int a = 0; a < 3; ++a) {
-    std::uint32_t ref;
-    std::memcpy(&ref, &p.org[a][first], sizeof ref);
-    for (std::uint64_t m = mask; m != 0; m &= m - 1) {
-      std::uint32_t bits;
-      std::memcpy(&bits, &p.org[a][__builtin_ctzll(m)], sizeof bits);
-      if (bits != ref) return false;
+    const vint<N> ref(std::bit_cast<std::int32_t>(p.org[a][first]));
+    for (int v = 0; v < nvec; ++v) {
+      const std::uint32_t m = lane_bits<N>(mask, v);
+      const std::uint32_t same = static_cast<std::uint32_t>(movemask(as_int(load(w, p.org[a] + v * N)) == ref));
+      if ((same & m) != m) return false;
     }
   }
   return true;
@@ -577,7 +580,7 @@ void kd_intersect_packet(const KdTreeView& tree, const Ray* rays, Hit* hits, int
   const int nvec = (count + N - 1) / N;
   for (int k = 0; k < 6; ++k) {
     if (p.klass[k] == 0) continue;
-    if (kdp::same_origin(p, p.klass[k]))
+    if (kdp::same_origin<N>(p, p.klass[k], nvec))
       kdp::traverse_class<N, B, true>(tree, rays, p, p.klass[k], nvec, k / 2, (k & 1) != 0);
     else
       kdp::traverse_class<N, B, false>(tree, rays, p, p.klass[k], nvec, k / 2, (k & 1) != 0);

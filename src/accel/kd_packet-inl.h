@@ -346,8 +346,8 @@ inline void leaf_by_ray(const KdTreeView& tree, const Ray* rays, PacketRays& p, 
 // 20), against no cull and the choice by triangle count: 23 -> 20 ns/ray at 1024 x 1024,
 // 44 -> 46 ns/ray at 256 x 256 (wide packets cull less). Skipping the cull where little
 // work is at stake did not win the 256 x 256 cost back; culling per vector of 16 rays as
-// well cost more than it saved; test_triangle and ray_vs_slots must be inlined (not
-// inlined: 10 % slower).
+// well cost more than it saved; the leaf tests must be inlined (not inlined: 10 %
+// slower).
 template <int N, int B>
 inline void leaf_shared_origin(const KdTreeView& tree, const Ray* rays, PacketRays& p, const Frustum& f,
                                std::uint64_t active, int nvec, std::uint32_t begin, std::uint32_t end,

@@ -29,6 +29,7 @@
 
 #include "accel/kd_tree.h"
 #include "accel/ray_offset.h"
+#include "image_estimate.h"
 #include "render/renderer.h"
 #include "render/surface.h"
 #include "render_test_scenes.h"
@@ -165,9 +166,7 @@ TEST(OffsetBias, OffsetsTowardsTheLightAreBelow1e5OfItsHeight) {
 
 // ---- A cosine-weighted estimate of E ------------------------------------------------------
 
-struct Estimate {
-  double mean = 0.0, stderr_ = 0.0;
-};
+using test::Estimate;
 
 // E from `count` cosine-weighted directions at the camera's hit points: pi L times the
 // fraction of rays that reach the light's front, each leaving from origin(point, dir).
@@ -250,18 +249,8 @@ Estimate render_estimate(const Scene& scene, const Accelerator& accel, int spp) 
   settings.seed = 5;
   RenderStats stats;
   const ImageRGB image = render_image(scene, accel, cam, settings, stats);
-  // The pixels are independent: mean and standard error of channel 0.
-  const std::size_t n = image.rgb.size() / 3;
-  double sum = 0.0, sum2 = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double v = image.rgb[3 * i];
-    EXPECT_TRUE(std::isfinite(v));
-    sum += v;
-    sum2 += v * v;
-  }
-  const double mean = sum / double(n);
-  const double var = std::max(0.0, sum2 / double(n) - mean * mean) * double(n) / double(n - 1);
-  return {mean, std::sqrt(var / double(n))};
+  for (float v : image.rgb) EXPECT_TRUE(std::isfinite(v));
+  return test::estimate(image, 0);  // the pixels are independent
 }
 
 TEST(OffsetBias, PathTracerMatchesLambertsFormulaOnAWidePlane) {

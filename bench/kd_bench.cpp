@@ -85,7 +85,7 @@ double cpu_seconds() {
 void bm_cost(benchmark::State& state, Isa isa) {
   const TriangleSoA& t = scene("spheres");
   const std::vector<Ray> rays = diffuse_rays(t, KdTree(t));
-  const float ratios[] = {0.0625f, 0.125f, 0.25f, 0.5f, 1.0f, 2.0f};
+  const float ratios[] = {0.015625f, 0.03125f, 0.0625f, 0.125f, 0.25f, 0.5f};
   std::vector<std::unique_ptr<KdTree>> trees;
   std::vector<double> steps, tests;
   for (float ratio : ratios) {

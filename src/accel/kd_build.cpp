@@ -145,7 +145,7 @@ void check_options(const KdBuildOptions& o) {
   auto bad = [](const std::string& what) { throw std::invalid_argument("KdBuildOptions: " + what); };
   if (!(o.traversal_cost > 0.0f) || !std::isfinite(o.traversal_cost)) bad("traversal_cost must be positive and finite");
   if (!(o.intersection_cost > 0.0f) || !std::isfinite(o.intersection_cost))
-    bad("intersection_cost must be positive and finite");
+    bad("intersection_cost must be positive and finite (KdTree fills in 0 for its ISA)");
   if (!(o.empty_space_factor > 0.0f && o.empty_space_factor <= 1.0f)) bad("empty_space_factor must be in (0, 1]");
   if (!(o.reference_factor >= 1.0f && o.reference_factor <= 16.0f)) bad("reference_factor must be in [1, 16]");
   if (o.max_depth < 0) bad("max_depth must be >= 0 (0: automatic)");

@@ -27,7 +27,9 @@ enum class KdSplit {
 struct KdBuildOptions {
   KdSplit split = KdSplit::Sah;
   float traversal_cost = kKdTraversalCost;
-  float intersection_cost = kKdIntersectionCost;
+  // C_isect / C_trav; 0: kd_intersection_cost(the ISA's kernels), which KdTree fills in
+  // (build_kd_tree itself wants a positive value).
+  float intersection_cost = 0.0f;
   float empty_space_factor = kKdEmptySpaceFactor;
   // 0: the automatic bound round(8 + 1.3 log2 N); always capped at kKdMaxDepth.
   int max_depth = 0;

@@ -1,24 +1,41 @@
 // Cost constants of the surface area heuristic for Lancer's kd-tree kernels.
 #pragma once
 
+#include "simd/isa.h"
+
 namespace lancer {
 
-// Measured on the development machine (AMD EPYC VM, 2 cores, g++ 12, Release) with
-//   build/release/bench/lancer_bench_micro --benchmark_filter=BM_KdCost
-// BM_KdCost builds SAH trees of the 100k-triangle "spheres" scene with C_isect / C_trav
-// from 1/16 to 2, traces the same diffuse-bounce rays through each (thread CPU time, side
-// by side in one run) and reports the time per ray for each tree, with the inner-node
-// steps and triangle tests per ray. With the SIMD leaf kernels a triangle test costs a few
-// ns while an inner step, with its cache miss and hard-to-predict branch, costs about
-// 20 ns, so the least-squares fit of time = c + C_trav * steps + C_isect * tests is poorly
-// conditioned; the direct comparison is not. Per diffuse ray (avx2; sse4 alike):
-//   ratio   1/16  1/8   1/4   1/2   1     2
-//   ns      663   708   828   995   1170  1179
-//   steps   25.8  30.1  34.6  39.2  43.3  45.1
-//   tests   73.5  40.8  22.9  14.1  9.8   8.6
-// so the tree built with ratio 1/16 traces fastest. Only the ratio matters to the SAH.
+// Only the ratio C_isect / C_trav matters to the SAH; C_trav is 1.
 inline constexpr float kKdTraversalCost = 1.0f;
-inline constexpr float kKdIntersectionCost = 0.0625f;
+
+// C_isect per ISA: a triangle test costs what that ISA's leaf kernel makes it cost (an
+// inner step, with its cache miss and hard-to-predict branch, costs about 20 ns everywhere),
+// so each ISA's tree is built for its own kernels. Measured with
+//   build/release/bench/lancer_bench_micro --benchmark_filter=BM_KdCost
+// which builds SAH trees of the 100k-triangle "spheres" scene with several ratios and traces
+// the same diffuse-bounce rays through each, side by side in one run (thread CPU time,
+// ns per ray, medians of 3; AMD EPYC VM, g++ 12, Release):
+//   ratio    1/64   1/32   1/16   1/8    1/4
+//   scalar   1988   1293   1043    953    964
+//   sse4      803    663    635    669    750
+//   avx2      592    553    561    626    726
+//   avx512    508    497    528    611    711
+// Packets of primary rays agree (lancer bench --sets primary,diffuse --threads 1, 22 scenes
+// at 512 x 512, packet / Embree rtcIntersect16 side by side): avx512 median 1.10x at 1/16,
+// 1.16x at 1/32, 1.15x at 1/64; avx2 1.41x at 1/16 and 1.39x at 1/32. The scalar kernel
+// stays at 1/16: its faster 1/8 tree takes 104 bytes per triangle on rings-5, over the
+// memory bound of kd_memory_test.
+constexpr float kd_intersection_cost(Isa isa) {
+  switch (isa) {
+    case Isa::Scalar:
+    case Isa::Sse4:
+    case Isa::Avx2:
+      return 0.0625f;
+    case Isa::Avx512:
+      return 0.03125f;
+  }
+  return 0.0625f;
+}
 
 // Wald & Havran's empty-space bonus: a split with one empty side costs 0.8 of the formula.
 inline constexpr float kKdEmptySpaceFactor = 0.8f;

@@ -18,12 +18,18 @@ KdKernels checked_kernels(Isa isa) {
   return select_kd_kernels(isa);
 }
 
+// The options with an automatic (0) intersection cost replaced by the ISA's constant.
+KdBuildOptions resolved(KdBuildOptions options, Isa isa) {
+  if (options.intersection_cost == 0.0f) options.intersection_cost = kd_intersection_cost(isa);
+  return options;
+}
+
 }  // namespace
 
 KdTree::KdTree(const TriangleSoA& tris, const KdBuildOptions& options, Isa isa)
-    : options_(options), kernels_(checked_kernels(isa)), triangle_count_(tris.size()) {
+    : options_(resolved(options, isa)), kernels_(checked_kernels(isa)), triangle_count_(tris.size()) {
   const auto start = std::chrono::steady_clock::now();
-  KdBuildOutput built = build_kd_tree(tris, options);
+  KdBuildOutput built = build_kd_tree(tris, options_);
   bounds_ = built.bounds;
   depth_bound_ = built.depth_bound;
   reference_budget_ = built.reference_budget;

@@ -50,6 +50,7 @@ class KdTree final : public Accelerator {
   glm::vec3 slot_vertex(std::uint32_t slot, int k) const;
   Isa isa() const { return kernels_.isa; }
   const Bounds3& bounds() const { return bounds_; }
+  // The options the tree was built with, an automatic intersection cost filled in.
   const KdBuildOptions& options() const { return options_; }
   std::size_t triangle_count() const { return triangle_count_; }
   std::size_t references() const { return references_; }

@@ -107,5 +107,30 @@ TEST(KdSweep, CutsEmptySpaceOnlyWhenItPays) {
   EXPECT_EQ(KdTree(t, o).nodes().size(), 1u);
 }
 
+// The default intersection cost is the one measured for the tree's ISA (kd_build_cost.h):
+// each ISA's tree is built for its own leaf kernels. build_kd_tree itself refuses 0.
+TEST(KdCost, DefaultIntersectionCostFollowsTheIsa) {
+  TriangleSoA t;
+  for (int i = 0; i < 40; ++i)
+    for (int j = 0; j < 40; ++j) {
+      const float x = float(i), y = float(j), z = float((i * 7 + j * 13) % 5);
+      t.push_back({x, y, z}, {x + 0.9f, y, z}, {x, y + 0.9f, z + 0.5f});
+    }
+  for (Isa isa : supported_isas()) {
+    SCOPED_TRACE(std::string(isa_name(isa)));
+    const KdTree automatic(t, {}, isa);
+    EXPECT_EQ(automatic.options().intersection_cost, kd_intersection_cost(isa));
+    KdBuildOptions o;
+    o.intersection_cost = kd_intersection_cost(isa);
+    EXPECT_EQ(KdTree(t, o, isa).nodes().size(), automatic.nodes().size());
+    o.intersection_cost = 0.5f;  // an explicit cost is kept
+    const KdTree explicit_cost(t, o, isa);
+    EXPECT_EQ(explicit_cost.options().intersection_cost, 0.5f);
+    EXPECT_NE(explicit_cost.nodes().size(), automatic.nodes().size());
+  }
+  EXPECT_LT(kd_intersection_cost(Isa::Avx512), kd_intersection_cost(Isa::Avx2));
+  EXPECT_THROW(build_kd_tree(t, KdBuildOptions{}), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace lancer::kd

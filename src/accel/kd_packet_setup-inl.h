@@ -1,15 +1,16 @@
 // Per-ray setup of a packet, N lanes at a time, in float (kd_packet-inl.h's first step).
 // Compiled once per ISA inside namespace lancer::LANCER_ISA, like the traversal itself.
 //
-// kd_setup_ray (kd_traverse.cpp) decides each ray's plan in double, one ray at a time; on
-// coherent camera packets that was a third of the packet's time. Here the same quantities
-// are computed in float for a whole vector of rays, for the lanes where float is plainly
-// safe: finite origin, direction and tnear, every direction component at least 2^-60, and the
-// magnitudes kd_setup_ray checks well inside its limits (E^2 max(E, D) / max|dir| within
-// [2^-50, 2^90], abs_slack within [2^-90, 2^60], plane distances and the clipped interval
-// below 2^60 and 2^64). Every other lane (axis-parallel, huge, tiny, NaN, infinite) takes
+// kd_setup_ray (kd_traverse.cpp) decides each ray's plan one ray at a time; on coherent
+// camera packets that (then in double) was a third of the packet's time. Here the same
+// quantities are computed in float for a whole vector of rays, for the lanes where float is
+// plainly safe: finite origin, direction and tnear, every direction component at least
+// 2^-60, and the magnitudes kd_setup_ray's double path checks well inside its limits
+// (E^2 max(E, D) / max|dir| within [2^-50, 2^90], abs_slack within [2^-90, 2^60], plane
+// distances and the clipped interval below 2^60 and 2^64). Every other lane (axis-parallel, huge, tiny, NaN, infinite) takes
 // kd_setup_ray and the single-ray paths as before, so the rare cases keep one careful
-// implementation.
+// implementation. kd_setup_ray_float is this same arithmetic for one ray, the single-ray
+// traversal's common case.
 //
 // The float values differ from kd_setup_ray's rounded doubles by a few 2^-24 relative
 // (1/dir, the box distances and the slack each round once more), which the 2^-20 term of

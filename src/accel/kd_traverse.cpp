@@ -37,7 +37,69 @@ void load_triangle(const KdTreeView& tree, std::uint32_t slot, glm::vec3 v[3]) {
   for (std::uint32_t k = 0; k < 3; ++k) v[k] = glm::vec3(b[k * w], b[(3 + k) * w], b[(6 + k) * w]);
 }
 
+// The largest box extent rounded up to a float (the slack must not shrink).
+float max_extent_up(const Bounds3& b) {
+  double e = 0.0;
+  for (int a = 0; a < 3; ++a) e = max_of(e, double(b.hi[a]) - double(b.lo[a]));
+  float f = static_cast<float>(e);
+  if (double(f) < e) f = std::nextafter(f, kInfinity);
+  return f;
+}
+
 }  // namespace
+
+// The packets' vector setup (kd_packet_setup-inl.h, where the limits and the exactness
+// argument are given) for one ray, with the same operations in the same order.
+bool kd_setup_ray_float(const KdTreeView& tree, const Ray& ray, KdRaySetup& s) {
+  constexpr float kFiniteMax = 3.40282347e38f;
+  const float rel = static_cast<float>(kKdRelativeSlack);
+  const float tnear = ray.tnear, tfar = ray.tfar;
+  if (!(std::fabs(tnear) <= kFiniteMax) || !(tfar >= -kFiniteMax)) return false;
+  const float extent = max_extent_up(tree.bounds);
+  float max_dir = 0.0f, reach_max = 0.0f, reach[3], inv[3];
+  for (int a = 0; a < 3; ++a) {
+    const float org = ray.org[a], ad = std::fabs(ray.dir[a]);
+    if (!(std::fabs(org) <= kFiniteMax) || !(ad <= kFiniteMax) || !(ad >= 0x1p-60f)) return false;
+    max_dir = ad > max_dir ? ad : max_dir;
+    const float r_lo = std::fabs(org - tree.bounds.lo[a]), r_hi = std::fabs(org - tree.bounds.hi[a]);
+    reach[a] = r_hi > r_lo ? r_hi : r_lo;
+    reach_max = reach[a] > reach_max ? reach[a] : reach_max;
+    inv[a] = 1.0f / ray.dir[a];
+  }
+  const float scale = extent * extent * (reach_max > extent ? reach_max : extent);
+  const float abs_slack = static_cast<float>(kKdExtentSlack) * extent / max_dir;
+  if (!(scale >= 0x1p-50f * max_dir) || !(scale <= 0x1p90f * max_dir) || !(abs_slack >= 0x1p-90f) ||
+      !(abs_slack <= 0x1p60f))
+    return false;
+  float t0 = tnear - (std::fabs(tnear) * rel + abs_slack);
+  float t1 = tfar + (std::fabs(tfar) * rel + abs_slack);
+  for (int a = 0; a < 3; ++a) {
+    if (!(reach[a] * std::fabs(inv[a]) <= 0x1p60f)) return false;
+    const float org = ray.org[a];
+    const float ta = (tree.bounds.lo[a] - org) * inv[a], tb = (tree.bounds.hi[a] - org) * inv[a];
+    const float enter = ta < tb ? ta : tb, leave = ta < tb ? tb : ta;
+    const float t_enter = enter - (std::fabs(enter) * rel + abs_slack);
+    const float t_leave = leave + (std::fabs(leave) * rel + abs_slack);
+    t0 = t_enter > t0 ? t_enter : t0;
+    t1 = t_leave < t1 ? t_leave : t1;
+  }
+  if (!(std::fabs(t0) <= 0x1p64f) || !(std::fabs(t1) <= 0x1p64f)) return false;
+  if (!(t0 <= t1)) {  // misses the widened scene box
+    s.plan = KdPlan::Miss;
+    return true;
+  }
+  s.plan = KdPlan::Traverse;
+  s.float_ok = true;
+  for (int a = 0; a < 3; ++a) {
+    s.parallel[a] = false;
+    s.negative[a] = ray.dir[a] < 0.0f;
+    s.inv_dir_f[a] = inv[a];
+  }
+  s.abs_slack_f = abs_slack;
+  s.t0_f = t0;
+  s.t1_f = t1;
+  return true;
+}
 
 KdTreeView view(const KdTree& tree) {
   return {tree.nodes().data(),
@@ -54,6 +116,7 @@ KdRaySetup kd_setup_ray(const KdTreeView& tree, const Ray& ray) {
   KdRaySetup s{};
   s.plan = KdPlan::Miss;
   if (tree.bounds.empty() || std::isnan(ray.tnear) || std::isnan(ray.tfar)) return s;  // nothing to hit
+  if (kd_setup_ray_float(tree, ray, s)) return s;  // the common case, without double divisions
   double max_dir = 0.0, max_extent = 0.0, distance = 0.0;
   for (int a = 0; a < 3; ++a) {
     if (!std::isfinite(ray.org[a]) || !std::isfinite(ray.dir[a])) {

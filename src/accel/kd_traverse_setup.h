@@ -39,7 +39,15 @@ struct KdRaySetup {
   float t0_f, t1_f;
 };
 
+// Tries kd_setup_ray_float first; the rays it declines are set up in double.
 KdRaySetup kd_setup_ray(const KdTreeView& tree, const Ray& ray);
+
+// kd_setup_ray's common case in float, for rays within the limits of the packets' vector
+// setup (finite, every direction component at least 2^-60, moderate magnitudes): sets s
+// (plan Traverse with float_ok, or Miss) and returns true; returns false with s untouched
+// for any other ray. Its float interval differs from the double path's by float rounding,
+// which the 2^-20 term of kKdRelativeSlack absorbs, so the hits are the oracle's either way.
+bool kd_setup_ray_float(const KdTreeView& tree, const Ray& ray, KdRaySetup& s);
 
 // Every leaf slot with the oracle's rule (exact by construction, O(references)).
 Hit kd_scan_intersect(const KdTreeView& tree, const Ray& ray);

@@ -7,10 +7,10 @@
 // plainly safe: finite origin, direction and tnear, every direction component at least
 // 2^-60, and the magnitudes kd_setup_ray's double path checks well inside its limits
 // (E^2 max(E, D) / max|dir| within [2^-50, 2^90], abs_slack within [2^-90, 2^60], plane
-// distances and the clipped interval below 2^60 and 2^64). Every other lane (axis-parallel, huge, tiny, NaN, infinite) takes
-// kd_setup_ray and the single-ray paths as before, so the rare cases keep one careful
-// implementation. kd_setup_ray_float is this same arithmetic for one ray, the single-ray
-// traversal's common case.
+// distances and the clipped interval below 2^60 and 2^64). Every other lane (axis-parallel,
+// huge, tiny, NaN, infinite) takes kd_setup_ray and the single-ray paths as before, so the
+// rare cases keep one careful implementation. kd_setup_ray_float is this same arithmetic
+// for one ray, the single-ray traversal's common case.
 //
 // The float values differ from kd_setup_ray's rounded doubles by a few 2^-24 relative
 // (1/dir, the box distances and the slack each round once more), which the 2^-20 term of
@@ -62,18 +62,6 @@ struct SetupMasks {
   std::uint64_t slow = 0;    // not handled here: kd_setup_ray's turn
 };
 
-// The largest box extent rounded up to a float (the slack must not shrink).
-inline float max_extent_up(const Bounds3& b) {
-  double e = 0.0;
-  for (int a = 0; a < 3; ++a) {
-    const double d = double(b.hi[a]) - double(b.lo[a]);
-    if (d > e) e = d;
-  }
-  float f = static_cast<float>(e);
-  if (double(f) < e) f = kd::next_up(f);
-  return f;
-}
-
 // Sets up lanes [0, count) of p (org, inv_dir, abs_slack, t0, t1, tnear, limit, best_t,
 // best_det, negative, the shear and the permutation classes) where float is safe; lanes that miss
 // the scene box get hits[i] = miss. PacketRays must be zeroed and best_prim filled.
@@ -95,7 +83,7 @@ SetupMasks setup_vectors(const KdTreeView& tree, const Ray* rays, int count, Pac
     for (int k = 0; k < 8; ++k) raw[k][i] = 0.0f;
 
   const Lanes<N> w;
-  const float extent = max_extent_up(tree.bounds);
+  const float extent = kd_max_extent_up(tree.bounds);
   const vfloat<N> E(extent), E2(extent * extent), zero(0.0f), one(1.0f);
   const vfloat<N> finite_max(3.40282347e38f), rel(static_cast<float>(kKdRelativeSlack));
   const vfloat<N> lo[3] = {vfloat<N>(tree.bounds.lo.x), vfloat<N>(tree.bounds.lo.y), vfloat<N>(tree.bounds.lo.z)};

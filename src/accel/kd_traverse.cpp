@@ -37,16 +37,15 @@ void load_triangle(const KdTreeView& tree, std::uint32_t slot, glm::vec3 v[3]) {
   for (std::uint32_t k = 0; k < 3; ++k) v[k] = glm::vec3(b[k * w], b[(3 + k) * w], b[(6 + k) * w]);
 }
 
-// The largest box extent rounded up to a float (the slack must not shrink).
-float max_extent_up(const Bounds3& b) {
+}  // namespace
+
+float kd_max_extent_up(const Bounds3& b) {
   double e = 0.0;
   for (int a = 0; a < 3; ++a) e = max_of(e, double(b.hi[a]) - double(b.lo[a]));
   float f = static_cast<float>(e);
   if (double(f) < e) f = std::nextafter(f, kInfinity);
   return f;
 }
-
-}  // namespace
 
 // The packets' vector setup (kd_packet_setup-inl.h, where the limits and the exactness
 // argument are given) for one ray, with the same operations in the same order.
@@ -55,7 +54,7 @@ bool kd_setup_ray_float(const KdTreeView& tree, const Ray& ray, KdRaySetup& s) {
   const float rel = static_cast<float>(kKdRelativeSlack);
   const float tnear = ray.tnear, tfar = ray.tfar;
   if (!(std::fabs(tnear) <= kFiniteMax) || !(tfar >= -kFiniteMax)) return false;
-  const float extent = max_extent_up(tree.bounds);
+  const float extent = kd_max_extent_up(tree.bounds);
   float max_dir = 0.0f, reach_max = 0.0f, reach[3], inv[3];
   for (int a = 0; a < 3; ++a) {
     const float org = ray.org[a], ad = std::fabs(ray.dir[a]);

@@ -49,6 +49,10 @@ KdRaySetup kd_setup_ray(const KdTreeView& tree, const Ray& ray);
 // which the 2^-20 term of kKdRelativeSlack absorbs, so the hits are the oracle's either way.
 bool kd_setup_ray_float(const KdTreeView& tree, const Ray& ray, KdRaySetup& s);
 
+// The largest extent of the box, rounded up to a float (the slack must not shrink): E in
+// the float setups' abs_slack = kKdExtentSlack * E / max|dir|.
+float kd_max_extent_up(const Bounds3& b);
+
 // Every leaf slot with the oracle's rule (exact by construction, O(references)).
 Hit kd_scan_intersect(const KdTreeView& tree, const Ray& ray);
 bool kd_scan_occluded(const KdTreeView& tree, const Ray& ray);

@@ -357,6 +357,17 @@ std::string_view glb_json_chunk(const std::string& file, std::span<const unsigne
   if (json_type != 0x4E4F534Au) throw SceneError(file, "malformed binary glTF: the first chunk is not JSON");
   if (20 + json_length > length)
     throw SceneError(file, "truncated binary glTF: the JSON chunk runs past the end of the file");
+  // The chunk after it (BIN), when a chunk header follows: tinygltf reads the length it
+  // declares without checking it against the data it was given (a heap over-read found by
+  // fuzzing), so a chunk that runs past the end is refused here.
+  const std::uint64_t next = 20 + json_length;
+  if (next + 8 <= length) {
+    const std::uint64_t chunk_length = read_u32(bytes.data() + next);
+    if (next + 8 + chunk_length > length)
+      throw SceneError(file, "truncated binary glTF: the chunk after the JSON chunk declares " +
+                                 std::to_string(chunk_length) + " bytes but only " +
+                                 std::to_string(length - next - 8) + " follow its header");
+  }
   return std::string_view(reinterpret_cast<const char*>(bytes.data() + 20), json_length);
 }
 

@@ -385,6 +385,15 @@ TEST_F(GltfErrors, MalformedGlbContainers) {
   glb.resize(glb.size() - 4);
   gltf_test::write_file(path("bin.glb"), glb.data(), glb.size());
   expect_error(path("bin.glb"), "byteLength");
+  // A BIN chunk declaring more bytes than the file holds, the header's total length still
+  // within the file (found by fuzzing: tinygltf read past the end of the data).
+  std::vector<unsigned char> over = good;
+  over.push_back(0);  // one byte beyond the declared total length
+  const std::size_t over_bin = 20 + (std::uint32_t(over[12]) | std::uint32_t(over[13]) << 8 |
+                                     std::uint32_t(over[14]) << 16 | std::uint32_t(over[15]) << 24);
+  over[over_bin] = static_cast<unsigned char>(over[over_bin] + 4);
+  gltf_test::write_file(path("binlong.glb"), over.data(), over.size());
+  expect_error(path("binlong.glb"), "the chunk after the JSON chunk declares");
 }
 
 // Every strict prefix of a valid file is an error with a message, never a crash.

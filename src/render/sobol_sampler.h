@@ -34,8 +34,7 @@ constexpr std::uint32_t reverse_bits(std::uint32_t v) {
   v = ((v >> 1) & 0x55555555u) | ((v & 0x55555555u) << 1);
   v = ((v >> 2) & 0x33333333u) | ((v & 0x33333333u) << 2);
   v = ((v >> 4) & 0x0F0F0F0Fu) | ((v & 0x0F0F0F0Fu) << 4);
-  v = ((v >> 8) & 0x00FF00FFu) | ((v & 0x00FF00FFu) << 8);
-  return (v >> 16) | (v << 16);
+  return __builtin_bswap32(v);  // the bytes in reverse order: one instruction
 }
 
 // Generator matrix columns of Sobol' dimension 1 (the second), as 32-bit direction
@@ -56,6 +55,8 @@ constexpr std::array<std::uint32_t, 32> second_dimension_directions() {
 // Unscrambled Sobol' value of `index` in dimension 0 (van der Corput) or 1, as 0.32 fixed point.
 constexpr std::uint32_t sobol_dimension0(std::uint32_t index) { return reverse_bits(index); }
 std::uint32_t sobol_dimension1(std::uint32_t index);
+// The same in the bit-reversed domain: reverse_bits(sobol_dimension1(reverse_bits(r))).
+std::uint32_t reversed_sobol_dimension1(std::uint32_t reversed_index);
 
 // Laine-Karras style permutation of a bit-reversed value: output bit b is input bit b
 // xor a function of the bits below b and the seed. Multipliers from Burley 2020.
@@ -94,11 +95,12 @@ class SobolSampler {
   std::uint32_t dimension() const { return dimension_; }
 
  private:
-  // 64 hashed bits for dimension set `dim` of this pixel; `salt` separates the streams.
-  std::uint64_t set_hash(std::uint32_t dim, std::uint64_t salt) const;
+  // 64 hashed bits for dimension set `dim` of this pixel's stream `key` (shuffle or scramble).
+  static std::uint64_t set_hash(std::uint32_t dim, std::uint64_t key);
 
-  std::uint64_t pixel_key_ = 0;
-  std::uint32_t index_ = 0;
+  std::uint64_t shuffle_key_ = 0;   // the index shuffles' stream
+  std::uint64_t scramble_key_ = 0;  // the value scrambles' stream
+  std::uint32_t reversed_index_ = 0;  // reverse_bits(sample index)
   std::uint32_t dimension_ = 0;
 };
 

@@ -3,6 +3,7 @@
 // independent random numbers on a smooth integrand.
 #include "render/sobol_sampler.h"
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <set>
@@ -84,6 +85,51 @@ TEST(SobolSampler, OwenScrambleIsNestedAndBijective) {
       const std::uint32_t y = (x & ~(0xFFFFFFFFu >> j)) | (static_cast<std::uint32_t>(rng.next()) >> j);
       EXPECT_EQ(sobol::owen_scramble(x, seed) >> (32 - j), sobol::owen_scramble(y, seed) >> (32 - j)) << j;
     }
+  }
+}
+
+// The byte tables give the matrix product bit for bit: against the direct xor of the
+// columns of the set bits, on indices random in all 32 bits.
+TEST(SobolSampler, ByteTablesGiveTheGeneratorMatrixProduct) {
+  const auto columns = sobol::second_dimension_directions();
+  SplitMix64 rng(7);
+  for (int n = 0; n < 100000; ++n) {
+    const auto index = static_cast<std::uint32_t>(rng.next());
+    std::uint32_t want = 0;
+    for (std::size_t bit = 0; bit < 32; ++bit)
+      if ((index >> bit) & 1u) want ^= columns[bit];
+    ASSERT_EQ(sobol::sobol_dimension1(index), want) << index;
+    ASSERT_EQ(sobol::reversed_sobol_dimension1(sobol::reverse_bits(index)), sobol::reverse_bits(want)) << index;
+  }
+}
+
+// The sampler's values, pinned as float bits: they were computed by the direct definitions
+// (a 32-step loop for dimension 1, owen_scramble's two reversals each), before the sampler
+// was rewritten in the bit-reversed domain with byte tables. A change here changes every
+// image.
+TEST(SobolSampler, ValuesAreThoseOfTheDefinitions) {
+  struct Pinned {
+    std::uint32_t x, y, index;
+    std::uint64_t seed;
+    std::uint32_t bits[6];  // next2, next1, next2, next1
+  };
+  const Pinned pinned[] = {
+      {0, 0, 0, 0x0ull, {0x3CAE4EE0u, 0x3F702CA0u, 0x3F0EA69Cu, 0x3E8CF2CCu, 0x3EF37E74u, 0x3F7C430Au}},
+      {3, 7, 1, 0x0ull, {0x3ED94794u, 0x3F3DA299u, 0x3F33701Du, 0x3F121C02u, 0x3EEA3462u, 0x3E9ABB98u}},
+      {17, 33, 255, 0x5ull, {0x3F04E776u, 0x3E0BD4C0u, 0x3F40DB48u, 0x3F2A0787u, 0x3F2A97DEu, 0x3F5DCC03u}},
+      {1023, 767, 65537, 0xDEADBEEFull, {0x3E76D8B8u, 0x3F160B3Eu, 0x3E121380u, 0x3E883B90u, 0x3F5E12A3u, 0x3F74BED8u}},
+      {4, 2000, 1000003, 0x1ull, {0x3F2BC302u, 0x3EE3814Eu, 0x3F5EDAC2u, 0x3E6A7290u, 0x3E9D52E0u, 0x3F4A31ABu}},
+  };
+  for (const Pinned& p : pinned) {
+    SobolSampler s(p.x, p.y, p.index, p.seed);
+    const glm::vec2 a = s.next2();
+    const float one = s.next1();
+    const glm::vec2 b = s.next2();
+    const float two = s.next1();
+    const float got[6] = {a.x, a.y, one, b.x, b.y, two};
+    for (int i = 0; i < 6; ++i)
+      EXPECT_EQ(std::bit_cast<std::uint32_t>(got[i]), p.bits[i]) << "pixel " << p.x << "," << p.y << " index "
+                                                                 << p.index << " value " << i;
   }
 }
 

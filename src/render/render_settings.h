@@ -1,6 +1,7 @@
 // What a render is asked to do: image size, samples, integrator and the threads it may use.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string_view>
@@ -47,6 +48,7 @@ struct RenderStats {
   int passes = 0;          // full passes over the image (one sample per pixel each)
   bool stopped = false;    // ended by the stop flag or the time limit before settings.spp
   std::uint32_t min_spp = 0, max_spp = 0;  // samples the pixels got (differ only when stopped mid-pass)
+  std::size_t pixels_past_min_spp = 0;     // pixels with more than min_spp samples
   std::uint64_t primary_rays = 0;  // camera rays: width * height * spp
   // Thread-seconds spent inside the primary-ray tracing calls only, summed over threads.
   double primary_seconds = 0.0;

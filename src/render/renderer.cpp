@@ -142,6 +142,8 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
   const auto [lo, hi] = std::minmax_element(count.begin(), count.end());
   stats.min_spp = *lo;
   stats.max_spp = *hi;
+  stats.pixels_past_min_spp =
+      static_cast<std::size_t>(std::count_if(count.begin(), count.end(), [&](std::uint32_t c) { return c > *lo; }));
   stats.rays = total_rays.load();
   stats.primary_rays = total_primary_rays.load();
   stats.primary_seconds = std::chrono::duration<double>(Clock::duration(total_primary_ticks.load())).count();

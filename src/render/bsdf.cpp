@@ -126,7 +126,11 @@ bool Bsdf::to_oriented_local(const glm::vec3& wo, const glm::vec3& wi, glm::vec3
 
 Bsdf::InterfaceSplit Bsdf::interface_split(const glm::vec3& wo, const glm::vec3& m) const {
   const float cos_wo_m = glm::dot(wo, m);
-  const glm::vec3 fr = fresnel_.reflectance(cos_wo_m, fresnel_eta_);
+  return interface_split(wo, m, cos_wo_m, fresnel_.reflectance(cos_wo_m, fresnel_eta_));
+}
+
+Bsdf::InterfaceSplit Bsdf::interface_split(const glm::vec3& wo, const glm::vec3& m, float cos_wo_m,
+                                           const glm::vec3& fr) const {
   const float r = has_reflection_ ? average(specular_tint(cos_wo_m, fr)) : 0.0f;
   const bool passes = thin_walled_ || refract_about(wo, m, eta_).has_value();  // no TIR on a thin wall
   const float t = has_transmission_ && passes ? base_weight(fr) * transmission_ * average(base_color_) : 0.0f;
@@ -152,80 +156,75 @@ Bsdf::LobeChoice Bsdf::choose_lobes(const glm::vec3& wo) const {
   return {interface / sum, diffuse / sum};
 }
 
-glm::vec3 Bsdf::eval_local(const glm::vec3& wo, const glm::vec3& wi) const {
-  glm::vec3 f(0.0f);
+// f * |cos(wi)| and the sampling density together: the two share the half vector, its
+// Fresnel factor and D. `lobes` is only read for the density.
+BsdfEval Bsdf::eval_local(const glm::vec3& wo, const glm::vec3& wi, const LobeChoice& lobes) const {
+  BsdfEval e;
   if (wi.z > 0.0f) {
-    if (!has_diffuse_ && !(has_reflection_ && !ggx_.smooth())) return f;
+    const bool rough_reflection = has_reflection_ && !ggx_.smooth();
+    if (!has_diffuse_ && !rough_reflection) return e;
     const glm::vec3 h = glm::normalize(wo + wi);
     const float cos_wo_h = glm::dot(wo, h);
     const glm::vec3 fr = fresnel_.reflectance(cos_wo_h, fresnel_eta_);
-    if (has_reflection_ && !ggx_.smooth()) {
+    if (rough_reflection) {
+      const float d = ggx_.d(h);
       // specular_brdf * cos(wi) = D G2 / (4 |n.wo|)
-      f += specular_tint(cos_wo_h, fr) * (ggx_.d(h) * ggx_.g2(wo, wi) / (4.0f * wo.z));
+      e.f += specular_tint(cos_wo_h, fr) * (d * ggx_.g2(wo, wi) / (4.0f * wo.z));
+      if (lobes.interface > 0.0f) {
+        // D_wo(h) / (4 wo.h) with D_wo(h) = G1(wo) (wo.h) D(h) / wo.z (Heitz 2018), times the
+        // probability of reflecting rather than refracting.
+        const float reflect = split_at_normal_ ? interface_split(wo, glm::vec3(0.0f, 0.0f, 1.0f)).reflect
+                                               : interface_split(wo, h, cos_wo_h, fr).reflect;
+        e.pdf += lobes.interface * reflect * ggx_.g1(wo) * d / (4.0f * wo.z);
+      }
     }
-    if (has_diffuse_) f += (base_weight(fr) * (1.0f - transmission_) * kInvPi * wi.z) * base_color_;
+    if (has_diffuse_) {
+      e.f += (base_weight(fr) * (1.0f - transmission_) * kInvPi * wi.z) * base_color_;
+      e.pdf += lobes.diffuse * kInvPi * wi.z;
+    }
   } else if (wi.z < 0.0f && has_transmission_ && !smooth_transmission_ && thin_walled_) {
     // KHR_materials_transmission's thin BTDF: specular_brdf with wi mirrored through the
     // tangent plane, H_T = normalize(wo + mirror(wi)); times |cos(wi)| = D G2 / (4 |n.wo|).
+    // Its density is the reflection density of the mirrored direction (mirroring preserves
+    // solid angle).
     const glm::vec3 wr = mirror_z(wi);
     const glm::vec3 h = glm::normalize(wo + wr);
-    const glm::vec3 fr = fresnel_.reflectance(glm::dot(wo, h), fresnel_eta_);
-    const float btdf_cos = ggx_.d(h) * ggx_.g2(wo, wr) / (4.0f * wo.z);
-    f += (base_weight(fr) * transmission_ * btdf_cos) * base_color_;
+    const float cos_wo_h = glm::dot(wo, h);
+    const glm::vec3 fr = fresnel_.reflectance(cos_wo_h, fresnel_eta_);
+    const float d = ggx_.d(h);
+    const float btdf_cos = d * ggx_.g2(wo, wr) / (4.0f * wo.z);
+    e.f += (base_weight(fr) * transmission_ * btdf_cos) * base_color_;
+    if (lobes.interface > 0.0f)
+      e.pdf += lobes.interface * interface_split(wo, h, cos_wo_h, fr).refract * ggx_.g1(wo) * d / (4.0f * wo.z);
   } else if (wi.z < 0.0f && has_transmission_ && !smooth_transmission_) {
     const auto h = refraction_half_vector(wo, wi, eta_);
-    if (!h) return f;
+    if (!h) return e;
     const float cos_o = glm::dot(wo, *h);
     const float cos_i = glm::dot(wi, *h);
     const float denom = cos_o + eta_ * cos_i;
     // Walter et al. 2007, eq. 21 without F, times |cos(wi)|.
-    const float btdf_cos =
-        eta_ * eta_ * cos_o * std::abs(cos_i) * ggx_.d(*h) * ggx_.g2(wo, wi) / (wo.z * denom * denom);
+    const float d = ggx_.d(*h);
+    const float btdf_cos = eta_ * eta_ * cos_o * std::abs(cos_i) * d * ggx_.g2(wo, wi) / (wo.z * denom * denom);
     const glm::vec3 fr = fresnel_.reflectance(cos_o, fresnel_eta_);
-    f += (base_weight(fr) * transmission_ * btdf_cos) * base_color_;
-  }
-  return f;
-}
-
-float Bsdf::pdf_local(const glm::vec3& wo, const glm::vec3& wi, const LobeChoice& lobes) const {
-  const glm::vec3 n(0.0f, 0.0f, 1.0f);
-  float p = 0.0f;
-  if (wi.z > 0.0f) {
-    if (lobes.interface > 0.0f && has_reflection_ && !ggx_.smooth()) {
-      // D_wo(h) / (4 wo.h) with D_wo(h) = G1(wo) (wo.h) D(h) / wo.z (Heitz 2018), times the
-      // probability of reflecting rather than refracting.
-      const glm::vec3 h = glm::normalize(wo + wi);
-      const float reflect = interface_split(wo, split_at_normal_ ? n : h).reflect;
-      p += lobes.interface * reflect * ggx_.g1(wo) * ggx_.d(h) / (4.0f * wo.z);
-    }
-    if (lobes.diffuse > 0.0f) p += lobes.diffuse * kInvPi * wi.z;
-  } else if (wi.z < 0.0f && lobes.interface > 0.0f && has_transmission_ && !smooth_transmission_ && thin_walled_) {
-    // The reflection density of the mirrored direction (mirroring preserves solid angle).
-    const glm::vec3 h = glm::normalize(wo + mirror_z(wi));
-    p += lobes.interface * interface_split(wo, h).refract * ggx_.g1(wo) * ggx_.d(h) / (4.0f * wo.z);
-  } else if (wi.z < 0.0f && lobes.interface > 0.0f && has_transmission_ && !smooth_transmission_) {
-    if (const auto h = refraction_half_vector(wo, wi, eta_)) {
-      const float cos_i = glm::dot(wi, *h);
-      const float denom = glm::dot(wo, *h) + eta_ * cos_i;
+    e.f += (base_weight(fr) * transmission_ * btdf_cos) * base_color_;
+    if (lobes.interface > 0.0f) {
       // D_wo(h) times the Jacobian |dh / dwi| of refraction (Walter et al. 2007, eq. 17).
-      const float refract = interface_split(wo, *h).refract;
-      p += lobes.interface * refract * ggx_.visible_pdf(wo, *h) * eta_ * eta_ * std::abs(cos_i) / (denom * denom);
+      const float refract = interface_split(wo, *h, cos_o, fr).refract;
+      e.pdf += lobes.interface * refract * ggx_.visible_pdf(wo, *h) * eta_ * eta_ * std::abs(cos_i) / (denom * denom);
     }
   }
-  return p;
+  return e;
 }
 
-glm::vec3 Bsdf::eval(const glm::vec3& wo, const glm::vec3& wi) const {
+BsdfEval Bsdf::evaluate(const glm::vec3& wo, const glm::vec3& wi) const {
   glm::vec3 lo, li;
-  if (!to_oriented_local(wo, wi, lo, li)) return glm::vec3(0.0f);
-  return eval_local(lo, li);
+  if (!to_oriented_local(wo, wi, lo, li)) return {};
+  return eval_local(lo, li, choose_lobes(lo));
 }
 
-float Bsdf::pdf(const glm::vec3& wo, const glm::vec3& wi) const {
-  glm::vec3 lo, li;
-  if (!to_oriented_local(wo, wi, lo, li)) return 0.0f;
-  return pdf_local(lo, li, choose_lobes(lo));
-}
+glm::vec3 Bsdf::eval(const glm::vec3& wo, const glm::vec3& wi) const { return evaluate(wo, wi).f; }
+
+float Bsdf::pdf(const glm::vec3& wo, const glm::vec3& wi) const { return evaluate(wo, wi).pdf; }
 
 std::optional<BsdfSample> Bsdf::sample(const glm::vec3& wo, float u_lobe, glm::vec2 u) const {
   glm::vec3 lo = frame_.to_local(wo);
@@ -292,9 +291,9 @@ std::optional<BsdfSample> Bsdf::sample(const glm::vec3& wo, float u_lobe, glm::v
   const glm::vec3 wi_world = to_world(wi);
   glm::vec3 lo_again, li;
   if (!to_oriented_local(wo, wi_world, lo_again, li)) return std::nullopt;
-  const float pdf = pdf_local(lo_again, li, lobes);
-  if (!(pdf > 0.0f)) return std::nullopt;
-  return BsdfSample{wi_world, eval_local(lo_again, li) / pdf, pdf, false, li.z < 0.0f};
+  const BsdfEval e = eval_local(lo_again, li, lobes);
+  if (!(e.pdf > 0.0f)) return std::nullopt;
+  return BsdfSample{wi_world, e.f / e.pdf, e.pdf, false, li.z < 0.0f};
 }
 
 }  // namespace lancer

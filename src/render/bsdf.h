@@ -130,6 +130,12 @@ struct BsdfSample {
   bool transmitted;  // wi on the other side of the shading surface than wo
 };
 
+// A direction's value and density together (what light sampling with MIS needs).
+struct BsdfEval {
+  glm::vec3 f{0.0f};  // f(wo, wi) * |cos(wi, n)| for the non-delta lobes
+  float pdf = 0.0f;   // sample()'s solid-angle density of wi from its non-delta lobes
+};
+
 class Bsdf {
  public:
   // wo-independent setup. `entering`: true when the ray arrives from outside (the side the
@@ -142,6 +148,8 @@ class Bsdf {
   glm::vec3 eval(const glm::vec3& wo, const glm::vec3& wi) const;
   // Density of sample() producing wi from its non-delta lobes (solid angle).
   float pdf(const glm::vec3& wo, const glm::vec3& wi) const;
+  // eval() and pdf() at once, for about the cost of one.
+  BsdfEval evaluate(const glm::vec3& wo, const glm::vec3& wi) const;
   // nullopt: absorbed, or the drawn direction left the lobe's domain (weight 0).
   std::optional<BsdfSample> sample(const glm::vec3& wo, float u_lobe, glm::vec2 u) const;
 
@@ -166,10 +174,11 @@ class Bsdf {
   };
   LobeChoice choose_lobes(const glm::vec3& wo) const;
   InterfaceSplit interface_split(const glm::vec3& wo, const glm::vec3& m) const;
+  // The same with cos(wo, m) and the Fresnel factor there already computed.
+  InterfaceSplit interface_split(const glm::vec3& wo, const glm::vec3& m, float cos_wo_m, const glm::vec3& fr) const;
   glm::vec3 specular_tint(float cos_wo_h, const glm::vec3& fr) const;
   float base_weight(const glm::vec3& fr) const;
-  glm::vec3 eval_local(const glm::vec3& wo, const glm::vec3& wi) const;
-  float pdf_local(const glm::vec3& wo, const glm::vec3& wi, const LobeChoice& lobes) const;
+  BsdfEval eval_local(const glm::vec3& wo, const glm::vec3& wi, const LobeChoice& lobes) const;
   // wo, wi in the local frame, mirrored so that wo.z > 0; false when wo is in the tangent plane.
   bool to_oriented_local(const glm::vec3& wo, const glm::vec3& wi, glm::vec3& lo, glm::vec3& li) const;
 

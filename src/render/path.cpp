@@ -18,6 +18,15 @@ constexpr float kMinLightDistance2 = 1e-20f;
 constexpr int kRouletteDepth = 3;
 constexpr float kMinSurvival = 0.05f;
 
+// Where each bounce's sample values lie among its dimensions.
+constexpr std::uint32_t kLightPickDimension = 0;     // which emissive triangle
+constexpr std::uint32_t kLightPointDimensions = 1;   // and 2: the point on it
+constexpr std::uint32_t kEnvironmentDimensions = 3;  // and 4: a direction toward the environment
+constexpr std::uint32_t kLobeDimension = 5;          // the BSDF lobe
+constexpr std::uint32_t kBsdfDimensions = 6;         // and 7: the direction within the lobe
+constexpr std::uint32_t kRouletteDimension = 8;
+constexpr std::uint32_t kBounceDimensions = 9;
+
 // Veach's power heuristic with beta = 2, weight of the strategy with density `a`.
 float power_heuristic(float a, float b) {
   if (!(a > 0.0f)) return 0.0f;
@@ -91,13 +100,10 @@ glm::vec3 PathIntegrator::radiance_from_hit(const Ray& camera_ray, const Hit& fi
     }
     if (depth >= max_depth_) break;
 
-    // The dimensions of one bounce, drawn in a fixed order whatever is used.
-    const float u_light_pick = sampler.next1();
-    const glm::vec2 u_light = sampler.next2();
-    const glm::vec2 u_env = sampler.next2();
-    const float u_lobe = sampler.next1();
-    const glm::vec2 u_bsdf = sampler.next2();
-    const float u_roulette = sampler.next1();
+    // The dimensions of one bounce: a fixed layout whatever is used, each value computed
+    // only where it is used.
+    const std::uint32_t dims = sampler.dimension();
+    sampler.skip(kBounceDimensions);
 
     const BsdfInputs inputs{si.base_color, si.metallic,       si.roughness,   si.ior,
                             si.specular,   si.specular_color, si.transmission, si.thin_walled};
@@ -107,14 +113,15 @@ glm::vec3 PathIntegrator::radiance_from_hit(const Ray& camera_ray, const Hit& fi
     if (!bsdf.is_delta_only()) {
       // Emissive triangles.
       if (!area_lights_.empty()) {
-        const AreaLightSample ls = area_lights_.sample(u_light_pick, u_light.x, u_light.y);
+        const glm::vec2 u_light = sampler.get2(dims + kLightPointDimensions);
+        const AreaLightSample ls = area_lights_.sample(sampler.get1(dims + kLightPickDimension), u_light.x, u_light.y);
         const glm::vec3 d = ls.point - si.p;
         const float dist2 = glm::dot(d, d);
         if (dist2 > kMinLightDistance2 && ls.pdf_area > 0.0f) {
           const glm::vec3 wi = d / std::sqrt(dist2);
           const float cos_l = -glm::dot(ls.normal, wi);
-          const glm::vec3 f = cos_l > 0.0f && sides_agree(si, wi) ? bsdf.eval(wo, wi) : glm::vec3(0.0f);
-          if (!is_black(f)) {
+          const BsdfEval e = cos_l > 0.0f && sides_agree(si, wi) ? bsdf.evaluate(wo, wi) : BsdfEval{};
+          if (!is_black(e.f)) {
             const Ray shadow = shadow_ray_to_area_light(leave, ls.point, ls.normal);
             ++rays;
             if (!accel_.occluded(shadow)) {
@@ -126,23 +133,22 @@ glm::vec3 PathIntegrator::radiance_from_hit(const Ray& camera_ray, const Hit& fi
                 Le = evaluate_shading(scene_, toward, Hit{std::sqrt(dist2), ls.prim, ls.b1, ls.b2}).emission;
               }
               const float light_pdf = ls.pdf_area * dist2 / cos_l;
-              L += beta * f * Le * (power_heuristic(light_pdf, bsdf.pdf(wo, wi)) / light_pdf);
+              L += beta * e.f * Le * (power_heuristic(light_pdf, e.pdf) / light_pdf);
             }
           }
         }
       }
       // The environment.
       if (environment_) {
-        const EnvSample es = environment_->sample(u_env);
-        const glm::vec3 f =
-            es.pdf > 0.0f && sides_agree(si, es.dir) ? bsdf.eval(wo, es.dir) : glm::vec3(0.0f);
-        if (!is_black(f) && !is_black(es.radiance)) {
+        const EnvSample es = environment_->sample(sampler.get2(dims + kEnvironmentDimensions));
+        const BsdfEval e = es.pdf > 0.0f && sides_agree(si, es.dir) ? bsdf.evaluate(wo, es.dir) : BsdfEval{};
+        if (!is_black(e.f) && !is_black(es.radiance)) {
           Ray shadow;
           shadow.org = leave.origin(es.dir);
           shadow.dir = es.dir;
           ++rays;
           if (!accel_.occluded(shadow))
-            L += beta * f * es.radiance * (power_heuristic(es.pdf, bsdf.pdf(wo, es.dir)) / es.pdf);
+            L += beta * e.f * es.radiance * (power_heuristic(es.pdf, e.pdf) / es.pdf);
         }
       }
       // Punctual lights: delta lights, one shadow ray each.
@@ -158,7 +164,8 @@ glm::vec3 PathIntegrator::radiance_from_hit(const Ray& camera_ray, const Hit& fi
     }
 
     // Continue the path by sampling the BSDF.
-    const std::optional<BsdfSample> bs = bsdf.sample(wo, u_lobe, u_bsdf);
+    const std::optional<BsdfSample> bs =
+        bsdf.sample(wo, sampler.get1(dims + kLobeDimension), sampler.get2(dims + kBsdfDimensions));
     if (!bs || !sides_agree(si, bs->wi)) break;
     beta *= bs->weight;
     if (is_black(beta) || !is_finite(beta)) break;
@@ -169,7 +176,7 @@ glm::vec3 PathIntegrator::radiance_from_hit(const Ray& camera_ray, const Hit& fi
     if (bs->transmitted && !si.thin_walled) in_volume = si.front_face && volume_absorption(si, sigma_a);
     if (depth + 1 >= kRouletteDepth) {
       const float survive = std::max(kMinSurvival, std::min(1.0f, max_component(beta)));
-      if (u_roulette >= survive) break;
+      if (sampler.get1(dims + kRouletteDimension) >= survive) break;
       beta /= survive;
     }
     ray = Ray{};

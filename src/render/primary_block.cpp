@@ -50,7 +50,9 @@ void PrimaryBlock::generate_path(const PinholeCamera& camera, const PixelFilter&
       SobolSampler& sampler = sobol_.emplace_back(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y),
                                                   static_cast<std::uint32_t>(sample), seed);
       const glm::vec2 offset = filter.sample_offset(sampler.next2());
-      const glm::vec2 lens = sampler.next2();
+      // The lens position, computed only for a thin lens (a pinhole ignores it).
+      const glm::vec2 lens = camera.aperture_radius() > 0.0f ? sampler.get2(sampler.dimension()) : glm::vec2(0.0f);
+      sampler.skip(2);
       rays_[static_cast<std::size_t>(count_++)] =
           camera.generate(static_cast<float>(x) + 0.5f + offset.x, static_cast<float>(y) + 0.5f + offset.y, lens);
     }

@@ -87,9 +87,21 @@ class SobolSampler {
   SobolSampler(std::uint32_t x, std::uint32_t y, std::uint32_t sample_index, std::uint64_t seed);
 
   // One dimension: an Owen-scrambled, index-shuffled van der Corput value.
-  float next1();
+  float next1() { return get1(dimension_++); }
   // Two dimensions: an Owen-scrambled, index-shuffled point of Sobol' dimensions (0, 1).
-  glm::vec2 next2();
+  glm::vec2 next2() {
+    const glm::vec2 v = get2(dimension_);
+    dimension_ += 2;
+    return v;
+  }
+  // Moves past `count` dimensions without computing them; get1/get2 compute any of them
+  // later, or not at all when a path does not use them.
+  void skip(std::uint32_t count) { dimension_ += count; }
+
+  // The value next1() gives when dimension() is `dim`, and next2()'s for dims dim, dim + 1:
+  // pure functions of the dimension, whatever was drawn before.
+  float get1(std::uint32_t dim) const;
+  glm::vec2 get2(std::uint32_t dim) const;
 
   // The next dimension to be consumed (next1 advances it by 1, next2 by 2).
   std::uint32_t dimension() const { return dimension_; }

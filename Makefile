@@ -3,7 +3,7 @@ JOBS ?= $(shell nproc)
 BUILD := build/release
 LANCER := $(BUILD)/lancer
 
-.PHONY: render test build configure deps bench bench-micro bench-embree test-sanitize fuzz clean
+.PHONY: render test build configure deps bench bench-render bench-micro bench-embree test-sanitize fuzz clean
 
 deps:
 	@scripts/install-deps.sh
@@ -61,6 +61,13 @@ clean:
 bench: configure
 	cmake --build $(BUILD) -j $(JOBS) --target lancer lancer-bench
 	$(LANCER) bench $(BENCH_ARGS)
+
+# Whole renders: paths/s, Mrays/s and the traversal share per scene, and beside Blender's
+# Cycles at equal error when `blender` is installed (optional: apt-get install blender
+# python3-numpy). BENCH_RENDER_ARGS, e.g. --scenes cornell-box --spp 64; --help lists them.
+bench-render: configure
+	cmake --build $(BUILD) -j $(JOBS) --target lancer lancer-bench
+	$(LANCER) bench --render $(BENCH_RENDER_ARGS)
 
 # The README gallery (docs/images/), rendered by the path tracer at a fixed sample count, so
 # the images are the same on any machine and thread count. About 2 CPU-minutes per image.

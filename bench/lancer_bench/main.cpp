@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <iostream>
 #include <new>
+#include <string_view>
 
 #include "bench_options.h"
 #include "bench_runner.h"
@@ -13,6 +14,7 @@
 #include "report_json.h"
 #include "report_markdown.h"
 #include "report_svg.h"
+#include "render_bench.h"
 
 namespace {
 
@@ -23,7 +25,17 @@ using namespace lancer::bench;
 const fs::path kScenesDir = fs::path(LANCER_BENCH_SCENES_DIR).lexically_normal();
 const fs::path kDefaultModels = fs::path(LANCER_BENCH_MODELS_DIR).lexically_normal();
 
+// `lancer bench --render ...`: whole renders (bench/render_bench/).
+int run_render(int argc, char** argv) {
+  int code = 0;
+  const auto options = parse_render_bench_options(argc, argv, std::cout, std::cerr, code);
+  if (!options) return code;
+  return run_render_bench(*options, kScenesDir, kDefaultModels, fs::path(LANCER_BENCH_CYCLES_SCRIPT), std::cout,
+                          std::cerr);
+}
+
 int run(int argc, char** argv) {
+  if (argc > 1 && std::string_view(argv[1]) == "--render") return run_render(argc - 1, argv + 1);
   int code = 0;
   const auto options = parse_bench_options(argc, argv, kDefaultModels, std::cout, std::cerr, code);
   if (!options) return code;

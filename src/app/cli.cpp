@@ -84,7 +84,7 @@ void add_render_command(CLI::App& app, RenderOptions& opt) {
             "--filter", [&s](const std::string& name) {
               s.filter = name == "gaussian" ? PixelFilterType::Gaussian : PixelFilterType::Box;
             },
-            "Pixel filter of the path tracer: box (jitter over the pixel) or gaussian (sigma 0.5 px, radius 1.5 px)")
+            "Pixel filter: box (jitter over the pixel) or gaussian (sigma 0.5 px, radius 1.5 px)")
       ->check(CLI::IsMember({"box", "gaussian"}))
       ->default_str("box");
   render->add_option("--aperture", opt.aperture, "Thin-lens aperture radius in scene units (0: pinhole)")
@@ -97,9 +97,12 @@ void add_render_command(CLI::App& app, RenderOptions& opt) {
             "the image is the same")
       ->check(CLI::IsMember({"packet", "single"}))
       ->default_str("packet");
-  render->add_option("--max-depth", s.max_depth, "Reflection and refraction depth limit")
+  render->add_option("--max-depth", s.max_depth,
+                     "path: bounces after the camera ray; whitted: reflection and refraction recursion limit")
       ->check(CLI::Range(0, 64))->capture_default_str();
-  render->add_option("--light-samples", s.light_samples, "Shadow rays toward area lights per shading point")
+  render->add_option("--light-samples", s.light_samples,
+                     "Points sampled on the emissive triangles per shading point, each with a shadow ray (path: at "
+                     "every bounce, combined with BSDF sampling by MIS; whitted: at each diffuse hit)")
       ->check(CLI::Range(1, 4096))->capture_default_str();
   render->add_option("--threads", s.threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 4096))->capture_default_str();
   render->add_option("--seed", s.seed, "Random seed; the image depends only on it, not on threads")->capture_default_str();
@@ -241,7 +244,11 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   }
 
   if (app.got_subcommand(bench)) return run_bench(bench->remaining(), err);
-  if (app.got_subcommand("render")) return run_render(render_opt, out, err);
+  if (CLI::App* render = app.get_subcommand("render"); render->parsed()) {
+    for (const CLI::Option* o : render->get_options())
+      if (o->count() > 0 && !o->get_lnames().empty()) render_opt.given.push_back("--" + o->get_lnames().front());
+    return run_render(render_opt, out, err);
+  }
   if (app.got_subcommand("trace")) return run_trace(trace_opt, out, err);
   if (app.got_subcommand("rays")) return run_rays(rays_opt, out, err);
   if (app.got_subcommand("gen")) return run_gen(gen_opt, out, err);

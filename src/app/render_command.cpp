@@ -41,6 +41,16 @@ bool has_light(const Scene& scene) {
 
 }  // namespace
 
+std::optional<std::string> integrator_ignores(IntegratorKind integrator, const std::vector<std::string>& given) {
+  const bool lit = integrator == IntegratorKind::Path || integrator == IntegratorKind::Whitted;
+  for (const std::string& option : given) {
+    const bool needs_lit = option == "--max-depth" || option == "--light-samples";
+    const bool needs_path = option == "--env" || option == "--env-color" || option == "--env-scale";
+    if ((needs_lit && !lit) || (needs_path && integrator != IntegratorKind::Path)) return option;
+  }
+  return std::nullopt;
+}
+
 void print_load_warnings(const Scene& scene, std::ostream& err) {
   if (scene.stats.degenerate_dropped > 0)
     err << "lancer: warning: " << scene.source << ": dropped " << scene.stats.degenerate_dropped
@@ -69,6 +79,11 @@ Isa isa_from(const std::string& name) {
 int run_render(const RenderOptions& options, std::ostream& out, std::ostream& err) {
   try {
     RenderOptions opt = options;
+    if (const auto ignored = integrator_ignores(opt.settings.integrator, opt.given))
+      throw std::invalid_argument(*ignored + ": the " + std::string(integrator_name(opt.settings.integrator)) +
+                                  " integrator does not use it" +
+                                  (ignored->rfind("--env", 0) == 0 ? " (the environment lights only --integrator path)"
+                                                                   : ""));
     if (opt.outputs.empty()) opt.outputs = {"out/render.exr", "out/render.png"};
     for (const auto& o : opt.outputs) {
       std::string ext = std::filesystem::path(o).extension().string();
@@ -99,8 +114,6 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
     if (!opt.env_color.empty())
       environment = std::make_unique<Environment>(
           opt.env_scale * glm::vec3(opt.env_color[0], opt.env_color[1], opt.env_color[2]));
-    if (environment && s.integrator != IntegratorKind::Path)
-      err << "lancer: warning: the environment lights only the path integrator\n";
     s.environment = environment.get();
     if (static_cast<long long>(s.width) * s.height > kMaxPixels)
       throw std::invalid_argument("image " + std::to_string(s.width) + "x" + std::to_string(s.height) +

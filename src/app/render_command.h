@@ -35,7 +35,15 @@ struct RenderOptions {
   float env_scale = 1.0f;              // --env-scale
   std::optional<float> aperture;       // --aperture (else the glTF camera's extras, else 0)
   std::optional<float> focus_distance; // --focus-distance
+  // The options given on the command line, by name ("--max-depth"): one the chosen
+  // integrator does not read is refused (integrator_ignores).
+  std::vector<std::string> given;
 };
+
+// The option of `given` that `integrator` does not read, if any: --max-depth and
+// --light-samples mean nothing to the debug views and ao, the environment lights only
+// the path tracer. Every other render option applies to every integrator.
+std::optional<std::string> integrator_ignores(IntegratorKind integrator, const std::vector<std::string>& given);
 
 // Returns the process exit code (130 or 143 after SIGINT or SIGTERM, once the image so far
 // is written); messages go to `err`, the summary line to `out`.

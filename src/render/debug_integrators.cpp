@@ -6,14 +6,15 @@
 
 #include "accel/ray_offset.h"
 #include "render/bsdf.h"
-#include "render/sampler.h"
+#include "render/sobol_sampler.h"
 #include "render/shading_inputs.h"
 #include "render/surface.h"
+#include "simd/splitmix64.h"
 
 namespace lancer {
 
 glm::vec3 primid_color(std::uint32_t id) {
-  const std::uint64_t h = mix64(static_cast<std::uint64_t>(id) + 0x5851F42D4C957F2Dull);
+  const std::uint64_t h = splitmix64_mix(static_cast<std::uint64_t>(id) + 0x5851F42D4C957F2Dull);
   auto channel = [h](int shift) { return 0.15f + 0.85f * static_cast<float>((h >> shift) & 0xFFu) / 255.0f; };
   return {channel(0), channel(8), channel(16)};
 }
@@ -44,7 +45,7 @@ glm::vec3 debug_radiance_from_hit(IntegratorKind kind, const Scene& scene, const
 }
 
 glm::vec3 ambient_occlusion(const Scene& scene, const Accelerator& accel, const Ray& ray, const Hit& hit,
-                            PixelSampler& sampler, std::uint64_t& rays) {
+                            SobolSampler& sampler, std::uint64_t& rays) {
   if (!hit.valid()) return glm::vec3(0.0f);
   const ShadingInputs si = evaluate_shading(scene, ray, hit);
   const glm::vec3 e = scene.bounds().extent();
@@ -54,7 +55,8 @@ glm::vec3 ambient_occlusion(const Scene& scene, const Accelerator& accel, const 
   int open = 0;
   for (int k = 0; k < kAoRays; ++k) {
     // Cosine-weighted (Malley's method: uniform on the disk, lifted to the hemisphere).
-    const float r = std::sqrt(sampler.next()), phi = 6.2831853f * sampler.next();
+    const glm::vec2 u = sampler.next2();
+    const float r = std::sqrt(u.x), phi = 6.2831853f * u.y;
     const glm::vec3 local(r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0f, 1.0f - r * r)));
     Ray probe;
     probe.org = origin;

@@ -14,7 +14,7 @@
 
 #include "accel/accelerator.h"
 #include "render/render_settings.h"
-#include "render/sampler.h"
+#include "render/sobol_sampler.h"
 #include "scene/scene.h"
 
 namespace lancer {
@@ -38,6 +38,6 @@ glm::vec3 debug_radiance_from_hit(IntegratorKind kind, const Scene& scene, const
 
 // The ao view at a camera ray's hit; `rays` counts the occlusion rays traced.
 glm::vec3 ambient_occlusion(const Scene& scene, const Accelerator& accel, const Ray& ray, const Hit& hit,
-                            PixelSampler& sampler, std::uint64_t& rays);
+                            SobolSampler& sampler, std::uint64_t& rays);
 
 }  // namespace lancer

@@ -25,7 +25,8 @@ constexpr std::uint32_t kEnvironmentDimensions = 3;  // and 4: a direction towar
 constexpr std::uint32_t kLobeDimension = 5;          // the BSDF lobe
 constexpr std::uint32_t kBsdfDimensions = 6;         // and 7: the direction within the lobe
 constexpr std::uint32_t kRouletteDimension = 8;
-constexpr std::uint32_t kBounceDimensions = 9;
+constexpr std::uint32_t kBounceDimensions = 9;   // with one light sample
+constexpr std::uint32_t kLightDimensions = 3;    // each further light sample: pick and point
 
 // Veach's power heuristic with beta = 2, weight of the strategy with density `a`.
 float power_heuristic(float a, float b) {
@@ -59,8 +60,13 @@ bool volume_absorption(const ShadingInputs& si, glm::vec3& sigma_a) {
 }  // namespace
 
 PathIntegrator::PathIntegrator(const Scene& scene, const Accelerator& accel, const AreaLights& area_lights,
-                               const Environment* environment, int max_depth)
-    : scene_(scene), accel_(accel), area_lights_(area_lights), environment_(environment), max_depth_(max_depth) {}
+                               const Environment* environment, int max_depth, int light_samples)
+    : scene_(scene),
+      accel_(accel),
+      area_lights_(area_lights),
+      environment_(environment),
+      max_depth_(max_depth),
+      light_samples_(std::max(1, light_samples)) {}
 
 glm::vec3 PathIntegrator::radiance_from_hit(const Ray& camera_ray, const Hit& first_hit, SobolSampler& sampler,
                                             std::uint64_t& rays) const {
@@ -94,7 +100,8 @@ glm::vec3 PathIntegrator::radiance_from_hit(const Ray& camera_ray, const Hit& fi
         const float pdf_area = area_lights_.pdf_area(hit.prim);
         const float cos_l = std::abs(glm::dot(si.ng, dir));
         const float distance = hit.t * dir_length;
-        if (pdf_area > 0.0f && cos_l > 0.0f) w = power_heuristic(prev_pdf, pdf_area * distance * distance / cos_l);
+        if (pdf_area > 0.0f && cos_l > 0.0f)
+          w = power_heuristic(prev_pdf, light_samples_ * (pdf_area * distance * distance / cos_l));
       }
       L += beta * si.emission * w;
     }
@@ -103,7 +110,7 @@ glm::vec3 PathIntegrator::radiance_from_hit(const Ray& camera_ray, const Hit& fi
     // The dimensions of one bounce: a fixed layout whatever is used, each value computed
     // only where it is used.
     const std::uint32_t dims = sampler.dimension();
-    sampler.skip(kBounceDimensions);
+    sampler.skip(kBounceDimensions + kLightDimensions * (light_samples_ - 1));
 
     const BsdfInputs inputs{si.base_color, si.metallic,       si.roughness,   si.ior,
                             si.specular,   si.specular_color, si.transmission, si.thin_walled};
@@ -111,10 +118,13 @@ glm::vec3 PathIntegrator::radiance_from_hit(const Ray& camera_ray, const Hit& fi
     const glm::vec3 wo = -dir;
 
     if (!bsdf.is_delta_only()) {
-      // Emissive triangles.
-      if (!area_lights_.empty()) {
-        const glm::vec2 u_light = sampler.get2(dims + kLightPointDimensions);
-        const AreaLightSample ls = area_lights_.sample(sampler.get1(dims + kLightPickDimension), u_light.x, u_light.y);
+      // Emissive triangles: light_samples_ samples, the first in the bounce's base layout,
+      // the others after it, each combined with the BSDF sample by MIS as one strategy of
+      // light_samples_ samples.
+      for (int k = 0; k < light_samples_ && !area_lights_.empty(); ++k) {
+        const std::uint32_t at = k == 0 ? dims : dims + kBounceDimensions + kLightDimensions * (k - 1);
+        const glm::vec2 u_light = sampler.get2(at + kLightPointDimensions);
+        const AreaLightSample ls = area_lights_.sample(sampler.get1(at + kLightPickDimension), u_light.x, u_light.y);
         const glm::vec3 d = ls.point - si.p;
         const float dist2 = glm::dot(d, d);
         if (dist2 > kMinLightDistance2 && ls.pdf_area > 0.0f) {
@@ -132,7 +142,7 @@ glm::vec3 PathIntegrator::radiance_from_hit(const Ray& camera_ray, const Hit& fi
                 toward.dir = wi;
                 Le = evaluate_shading(scene_, toward, Hit{std::sqrt(dist2), ls.prim, ls.b1, ls.b2}).emission;
               }
-              const float light_pdf = ls.pdf_area * dist2 / cos_l;
+              const float light_pdf = light_samples_ * (ls.pdf_area * dist2 / cos_l);
               L += beta * e.f * Le * (power_heuristic(light_pdf, e.pdf) / light_pdf);
             }
           }

@@ -29,8 +29,11 @@ class PathIntegrator {
  public:
   // Keeps references: all must outlive the integrator. `environment` may be null (black).
   // max_depth: the longest path, in bounces after the camera ray (0: emission seen directly).
+  // light_samples: points sampled on the emissive triangles at each bounce (at least 1),
+  // each with its shadow ray, combined with the BSDF sample by MIS (Veach 1997, 9.2.4,
+  // with n_light = light_samples and n_bsdf = 1).
   PathIntegrator(const Scene& scene, const Accelerator& accel, const AreaLights& area_lights,
-                 const Environment* environment, int max_depth);
+                 const Environment* environment, int max_depth, int light_samples = 1);
 
   // Radiance arriving along -ray.dir at ray.org, given the camera ray's closest hit.
   // `rays` is increased by every ray traced here (not the camera ray itself).
@@ -42,6 +45,7 @@ class PathIntegrator {
   const AreaLights& area_lights_;
   const Environment* environment_;
   int max_depth_;
+  int light_samples_;
 };
 
 }  // namespace lancer

@@ -23,25 +23,8 @@ void check_block(const PixelBlock& block) {
 }
 }  // namespace
 
-void PrimaryBlock::generate(const PinholeCamera& camera, const PixelBlock& block, int sample, std::uint64_t seed) {
-  check_block(block);
-  samplers_.clear();
-  count_ = 0;
-  for (int y = block.y0; y < block.y1; ++y) {
-    for (int x = block.x0; x < block.x1; ++x) {
-      PixelSampler& sampler = samplers_.emplace_back(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y),
-                                                     static_cast<std::uint32_t>(sample), seed);
-      // Jitter over the pixel's area; the renderer's box filter averages the samples.
-      const float u = sampler.next();
-      const float v = sampler.next();
-      const Ray ray = camera.generate(static_cast<float>(x) + u, static_cast<float>(y) + v);
-      rays_[static_cast<std::size_t>(count_++)] = ray;
-    }
-  }
-}
-
-void PrimaryBlock::generate_path(const PinholeCamera& camera, const PixelFilter& filter, const PixelBlock& block,
-                                 int sample, std::uint64_t seed) {
+void PrimaryBlock::generate(const PinholeCamera& camera, const PixelFilter& filter, const PixelBlock& block,
+                            int sample, std::uint64_t seed) {
   check_block(block);
   sobol_.clear();
   count_ = 0;

@@ -4,7 +4,7 @@
 // "Interactive Rendering with Coherent Ray Tracing", Eurographics 2001) visits the same
 // nodes once for the whole block instead of once per ray.
 //
-// Each pixel keeps its own PixelSampler, seeded by (x, y, sample, seed) exactly as for a
+// Each pixel keeps its own SobolSampler, seeded by (x, y, sample, seed) exactly as for a
 // ray traced alone, and the hits are exactly Accelerator::intersect's, so an image does
 // not depend on the block shape, the tile size or the trace mode.
 #pragma once
@@ -18,7 +18,6 @@
 #include "render/camera.h"
 #include "render/render_settings.h"
 #include "render/pixel_filter.h"
-#include "render/sampler.h"
 #include "render/sobol_sampler.h"
 #include "render/tile_scheduler.h"
 
@@ -42,21 +41,16 @@ std::vector<PixelBlock> make_blocks(const Tile& tile);
 
 class PrimaryBlock {
  public:
-  PrimaryBlock() {
-    samplers_.reserve(kBlockPixels);
-    sobol_.reserve(kBlockPixels);
-  }
+  PrimaryBlock() { sobol_.reserve(kBlockPixels); }
 
   // The camera rays of sample `sample` of every pixel of `block` (at most kBlockPixels),
-  // row-major in the block. Pixel (x, y)'s sampler draws the jitter u, v in [0, 1) as its
-  // first two dimensions and the ray goes through (x + u, y + v); the sampler then stays
-  // with the pixel for shading. Throws std::invalid_argument for an empty or too large block.
-  void generate(const PinholeCamera& camera, const PixelBlock& block, int sample, std::uint64_t seed);
-  // The path tracer's camera rays: one SobolSampler per pixel, whose first two dimensions
-  // place the sample in the pixel by the filter (filter importance sampling: every sample
-  // weighs 1) and the next two on the lens; the sampler then stays with the pixel.
-  void generate_path(const PinholeCamera& camera, const PixelFilter& filter, const PixelBlock& block, int sample,
-                     std::uint64_t seed);
+  // row-major in the block, for every integrator: one SobolSampler per pixel, whose first
+  // two dimensions place the sample in the pixel by the filter (filter importance sampling:
+  // every sample weighs 1; the box filter jitters over the pixel's area) and the next two on
+  // the lens; the sampler then stays with the pixel for shading. Throws
+  // std::invalid_argument for an empty or too large block.
+  void generate(const PinholeCamera& camera, const PixelFilter& filter, const PixelBlock& block, int sample,
+                std::uint64_t seed);
 
   // Closest hits of all the rays: one Accelerator::intersect_packet call (Packet) or one
   // Accelerator::intersect per ray (Single). Returns the time spent in those calls only.
@@ -65,13 +59,10 @@ class PrimaryBlock {
   int size() const { return count_; }
   const Ray& ray(int i) const { return rays_[static_cast<std::size_t>(i)]; }
   const Hit& hit(int i) const { return hits_[static_cast<std::size_t>(i)]; }
-  PixelSampler& sampler(int i) { return samplers_[static_cast<std::size_t>(i)]; }
-  SobolSampler& sobol(int i) { return sobol_[static_cast<std::size_t>(i)]; }
+  SobolSampler& sampler(int i) { return sobol_[static_cast<std::size_t>(i)]; }
 
  private:
-  // PixelSampler has no default state, so the samplers are rebuilt in place per sample.
-  std::vector<PixelSampler> samplers_;
-  std::vector<SobolSampler> sobol_;
+  std::vector<SobolSampler> sobol_;  // rebuilt in place per sample
   std::array<Ray, kBlockPixels> rays_{};
   std::array<Hit, kBlockPixels> hits_{};
   int count_ = 0;

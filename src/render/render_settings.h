@@ -29,14 +29,16 @@ struct RenderSettings {
   int width = 512;
   int height = 512;
   int spp = 16;            // jittered samples per pixel
-  IntegratorKind integrator = IntegratorKind::Whitted;  // the command line's default is path
+  IntegratorKind integrator = IntegratorKind::Path;
   int max_depth = 8;       // path: bounces; whitted: reflection/refraction recursion limit
-  int light_samples = 4;   // shadow rays toward area lights, in total, per shading point
+  // Points sampled on the emissive triangles (each with its shadow ray) per shading point:
+  // path, at every bounce, combined with BSDF sampling by MIS; whitted, at each diffuse hit.
+  int light_samples = 1;
   int threads = 0;         // 0: all hardware threads
   std::uint64_t seed = 0;
   int tile_size = 16;
-  PixelFilterType filter = PixelFilterType::Box;  // path: pixel reconstruction filter
-  // path: the environment (not owned; null: black background).
+  PixelFilterType filter = PixelFilterType::Box;  // pixel reconstruction filter (every integrator)
+  // The environment (not owned; null: black background); path only.
   const Environment* environment = nullptr;
   TraceMode mode = TraceMode::Packet;  // primary rays only; secondary rays are always single
 };

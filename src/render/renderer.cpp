@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -31,12 +32,14 @@ void check_settings(const Scene& scene, const PinholeCamera& camera, const Rende
          std::to_string(s.width) + "x" + std::to_string(s.height));
   if (s.spp <= 0) fail("samples per pixel must be positive");
   if (s.max_depth < 0) fail("max depth must be >= 0");
-  if (s.light_samples < 0) fail("light samples must be >= 0");
+  if (s.light_samples < 1) fail("light samples must be >= 1");
   if (s.threads < 0) fail("threads must be >= 0");
   if (s.tile_size <= 0) fail("tile size must be positive");
   if (s.mode != TraceMode::Packet && s.mode != TraceMode::Single) fail("unknown trace mode");
   if (scene.material_id.size() != scene.triangle_count() || scene.materials.empty())
     fail("scene " + scene.source + " has no material for some triangles");
+  if (s.environment && s.integrator != IntegratorKind::Path)
+    fail("an environment lights only the path integrator, not " + std::string(integrator_name(s.integrator)));
 }
 
 }  // namespace
@@ -51,8 +54,6 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
   const auto deadline = start + std::chrono::duration_cast<Clock::duration>(
                                     std::chrono::duration<double>(timed ? control.time_limit_s : 0.0));
 
-  const AreaLights area_lights(scene);
-  const WhittedIntegrator whitted(scene, accel, area_lights, settings.max_depth, settings.light_samples);
   // Per pixel: the sum of its samples in double (a long render adds up millions) and how
   // many there are, so an image stopped mid-pass still averages what each pixel got.
   const std::size_t pixels = static_cast<std::size_t>(settings.width) * static_cast<std::size_t>(settings.height);
@@ -63,16 +64,23 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
   std::atomic<Clock::rep> total_primary_ticks{0};  // summed over threads
   std::atomic<bool> halted{false};
 
-  const PathIntegrator path(scene, accel, area_lights, settings.environment, settings.max_depth);
+  // Only the chosen integrator is built (the lights only for those that sample them).
+  const bool lit = settings.integrator == IntegratorKind::Path || settings.integrator == IntegratorKind::Whitted;
+  const std::optional<AreaLights> area_lights = lit ? std::optional<AreaLights>(std::in_place, scene) : std::nullopt;
+  std::optional<PathIntegrator> path;
+  std::optional<WhittedIntegrator> whitted;
+  if (settings.integrator == IntegratorKind::Path)
+    path.emplace(scene, accel, *area_lights, settings.environment, settings.max_depth, settings.light_samples);
+  if (settings.integrator == IntegratorKind::Whitted)
+    whitted.emplace(scene, accel, *area_lights, settings.max_depth, settings.light_samples);
   const PixelFilter filter =
       settings.filter == PixelFilterType::Gaussian ? PixelFilter::gaussian() : PixelFilter::box();
-  const bool is_path = settings.integrator == IntegratorKind::Path;
   auto shade = [&](PrimaryBlock& primary, int i, std::uint64_t& rays) {
     const Ray& ray = primary.ray(i);
     const Hit& hit = primary.hit(i);
     switch (settings.integrator) {
-      case IntegratorKind::Path: return path.radiance_from_hit(ray, hit, primary.sobol(i), rays);
-      case IntegratorKind::Whitted: return whitted.radiance_from_hit(ray, hit, primary.sampler(i), rays);
+      case IntegratorKind::Path: return path->radiance_from_hit(ray, hit, primary.sampler(i), rays);
+      case IntegratorKind::Whitted: return whitted->radiance_from_hit(ray, hit, primary.sampler(i), rays);
       case IntegratorKind::Ao: return ambient_occlusion(scene, accel, ray, hit, primary.sampler(i), rays);
       default: return debug_radiance_from_hit(settings.integrator, scene, ray, hit);
     }
@@ -97,10 +105,7 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
     for (const PixelBlock& block : make_blocks(tile)) {
       if (must_stop()) break;
       const int n = block.pixel_count();
-      if (is_path)
-        primary.generate_path(camera, filter, block, s, settings.seed);
-      else
-        primary.generate(camera, block, s, settings.seed);
+      primary.generate(camera, filter, block, s, settings.seed);
       primary_time += primary.trace(accel, settings.mode);
       primary_rays += static_cast<std::uint64_t>(n);
       for (int i = 0; i < n; ++i) {

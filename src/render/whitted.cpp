@@ -63,12 +63,12 @@ WhittedIntegrator::WhittedIntegrator(const Scene& scene, const Accelerator& acce
                                      int max_depth, int light_samples)
     : scene_(scene), accel_(accel), area_lights_(area_lights), max_depth_(max_depth), light_samples_(light_samples) {}
 
-glm::vec3 WhittedIntegrator::trace(const Ray& ray, int depth, PixelSampler& sampler, std::uint64_t& rays) const {
+glm::vec3 WhittedIntegrator::trace(const Ray& ray, int depth, SobolSampler& sampler, std::uint64_t& rays) const {
   ++rays;
   return shade(ray, accel_.intersect(ray), depth, sampler, rays);
 }
 
-glm::vec3 WhittedIntegrator::shade(const Ray& ray, const Hit& hit, int depth, PixelSampler& sampler,
+glm::vec3 WhittedIntegrator::shade(const Ray& ray, const Hit& hit, int depth, SobolSampler& sampler,
                                    std::uint64_t& rays) const {
   if (!hit.valid()) return glm::vec3(0.0f);  // no environment yet
   const SurfacePoint sp = make_surface_point(scene_, ray, hit);
@@ -86,7 +86,7 @@ glm::vec3 WhittedIntegrator::shade(const Ray& ray, const Hit& hit, int depth, Pi
   return L;
 }
 
-glm::vec3 WhittedIntegrator::mirror(const SurfacePoint& sp, const Ray& ray, int depth, PixelSampler& sampler,
+glm::vec3 WhittedIntegrator::mirror(const SurfacePoint& sp, const Ray& ray, int depth, SobolSampler& sampler,
                                     std::uint64_t& rays) const {
   const glm::vec3 wo = -ray.dir;
   const glm::vec3 n = specular_normal(sp, wo);
@@ -95,7 +95,7 @@ glm::vec3 WhittedIntegrator::mirror(const SurfacePoint& sp, const Ray& ray, int 
   return fresnel_schlick(sp.base_color, cos_i) * trace(spawn_ray(scene_, sp, dir), depth + 1, sampler, rays);
 }
 
-glm::vec3 WhittedIntegrator::dielectric(const SurfacePoint& sp, const Ray& ray, int depth, PixelSampler& sampler,
+glm::vec3 WhittedIntegrator::dielectric(const SurfacePoint& sp, const Ray& ray, int depth, SobolSampler& sampler,
                                         std::uint64_t& rays) const {
   // A non-physical ior from a file (<= 0, NaN) is treated as 1: the surface only refracts.
   const float ior = std::isfinite(sp.material->ior) && sp.material->ior > 0.0f ? sp.material->ior : 1.0f;
@@ -125,7 +125,7 @@ glm::vec3 WhittedIntegrator::dielectric(const SurfacePoint& sp, const Ray& ray, 
   return L;
 }
 
-glm::vec3 WhittedIntegrator::direct_lighting(const SurfacePoint& sp, PixelSampler& sampler,
+glm::vec3 WhittedIntegrator::direct_lighting(const SurfacePoint& sp, SobolSampler& sampler,
                                              std::uint64_t& rays) const {
   const SurfaceOffset leave = leaving(scene_, sp);
   const glm::vec3 E = punctual_lighting(sp, leave, rays) + area_lighting(sp, leave, sampler, rays);
@@ -151,15 +151,14 @@ glm::vec3 WhittedIntegrator::punctual_lighting(const SurfacePoint& sp, const Sur
 
 // Estimate of the irradiance from the emissive triangles, sampled in area:
 // E = 1/N sum L_e cos_s cos_l / r^2 / pdf_area  (one-sided emitters).
-glm::vec3 WhittedIntegrator::area_lighting(const SurfacePoint& sp, const SurfaceOffset& leave, PixelSampler& sampler,
+glm::vec3 WhittedIntegrator::area_lighting(const SurfacePoint& sp, const SurfaceOffset& leave, SobolSampler& sampler,
                                            std::uint64_t& rays) const {
   if (area_lights_.empty() || light_samples_ <= 0) return glm::vec3(0.0f);
   glm::vec3 sum(0.0f);
   for (int k = 0; k < light_samples_; ++k) {
-    const float u_pick = sampler.next();
-    const float u1 = sampler.next();
-    const float u2 = sampler.next();
-    const AreaLightSample ls = area_lights_.sample(u_pick, u1, u2);
+    const float u_pick = sampler.next1();
+    const glm::vec2 u = sampler.next2();
+    const AreaLightSample ls = area_lights_.sample(u_pick, u.x, u.y);
     const glm::vec3 d = ls.point - sp.p;
     const float dist2 = glm::dot(d, d);
     if (!(dist2 > kMinLightDistance2) || !(ls.pdf_area > 0.0f)) continue;

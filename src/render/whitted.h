@@ -24,7 +24,7 @@
 #include "accel/accelerator.h"
 #include "accel/ray_offset.h"
 #include "render/lights.h"
-#include "render/sampler.h"
+#include "render/sobol_sampler.h"
 #include "render/surface.h"
 #include "scene/scene.h"
 
@@ -44,30 +44,30 @@ class WhittedIntegrator {
 
   // Radiance arriving at ray.org from direction -ray.dir (ray.dir unit length).
   // `rays` is increased by every ray traced (this one, shadow and secondary rays).
-  glm::vec3 radiance(const Ray& ray, PixelSampler& sampler, std::uint64_t& rays) const {
+  glm::vec3 radiance(const Ray& ray, SobolSampler& sampler, std::uint64_t& rays) const {
     return trace(ray, 0, sampler, rays);
   }
   // radiance() for a ray the caller has already traced: `hit` must be accel.intersect(ray)
   // (e.g. from a packet of camera rays). Gives exactly radiance()'s value; `rays` is
   // increased by the shadow and secondary rays only, not by `ray` itself.
-  glm::vec3 radiance_from_hit(const Ray& ray, const Hit& hit, PixelSampler& sampler, std::uint64_t& rays) const {
+  glm::vec3 radiance_from_hit(const Ray& ray, const Hit& hit, SobolSampler& sampler, std::uint64_t& rays) const {
     return shade(ray, hit, 0, sampler, rays);
   }
 
   // Reflected radiance at a Lambertian point from all lights (no emission of its own).
-  glm::vec3 direct_lighting(const SurfacePoint& sp, PixelSampler& sampler, std::uint64_t& rays) const;
+  glm::vec3 direct_lighting(const SurfacePoint& sp, SobolSampler& sampler, std::uint64_t& rays) const;
 
  private:
   // Counts and intersects `ray`, then shades its hit.
-  glm::vec3 trace(const Ray& ray, int depth, PixelSampler& sampler, std::uint64_t& rays) const;
+  glm::vec3 trace(const Ray& ray, int depth, SobolSampler& sampler, std::uint64_t& rays) const;
   // Radiance along `ray` given its closest hit, `depth` specular bounces from the camera.
-  glm::vec3 shade(const Ray& ray, const Hit& hit, int depth, PixelSampler& sampler, std::uint64_t& rays) const;
-  glm::vec3 mirror(const SurfacePoint& sp, const Ray& ray, int depth, PixelSampler& sampler,
+  glm::vec3 shade(const Ray& ray, const Hit& hit, int depth, SobolSampler& sampler, std::uint64_t& rays) const;
+  glm::vec3 mirror(const SurfacePoint& sp, const Ray& ray, int depth, SobolSampler& sampler,
                    std::uint64_t& rays) const;
-  glm::vec3 dielectric(const SurfacePoint& sp, const Ray& ray, int depth, PixelSampler& sampler,
+  glm::vec3 dielectric(const SurfacePoint& sp, const Ray& ray, int depth, SobolSampler& sampler,
                        std::uint64_t& rays) const;
   glm::vec3 punctual_lighting(const SurfacePoint& sp, const SurfaceOffset& leave, std::uint64_t& rays) const;
-  glm::vec3 area_lighting(const SurfacePoint& sp, const SurfaceOffset& leave, PixelSampler& sampler,
+  glm::vec3 area_lighting(const SurfacePoint& sp, const SurfaceOffset& leave, SobolSampler& sampler,
                           std::uint64_t& rays) const;
 
   const Scene& scene_;

@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "accel/brute_force.h"
+#include "render/sampler.h"
 #include "render/surface.h"
 #include "render/whitted.h"
 #include "render_test_scenes.h"
@@ -148,7 +149,7 @@ glm::vec3 floor_radiance(const Scene& scene, int light_samples) {
   const BruteForce accel(scene.triangles);
   const AreaLights lights(scene);
   const WhittedIntegrator whitted(scene, accel, lights, 4, light_samples);
-  PixelSampler sampler(1, 2, 3, 4);
+  SobolSampler sampler(1, 2, 3, 4);
   std::uint64_t rays = 0;
   return whitted.radiance(ray_from({0.01f, 0.02f, 0.5f}, {0, 0, -1}), sampler, rays);
 }
@@ -194,7 +195,7 @@ TEST(AreaLights, LightsFacingAwayAndBlockedLightsGiveNothing) {
   const BruteForce accel(blocked.triangles);
   const AreaLights lights(blocked);
   const WhittedIntegrator whitted(blocked, accel, lights, 4, 16);
-  PixelSampler sampler(0, 0, 0, 0);
+  SobolSampler sampler(0, 0, 0, 0);
   std::uint64_t rays = 0;
   EXPECT_EQ(whitted.radiance(ray_from({0.01f, 0.02f, 0.2f}, {0, 0, -1}), sampler, rays), glm::vec3(0.0f));
 }

@@ -158,18 +158,20 @@ TEST(PrimaryBlock, RaysSamplersAndHitsMatchTracingOnePixelAtATime) {
   const PixelBlock block{32, 8, 37, 15};  // 5x7
   for (TraceMode mode : {TraceMode::Packet, TraceMode::Single}) {
     PrimaryBlock primary;
-    primary.generate(cam, block, 3, 42);
+    primary.generate(cam, PixelFilter::box(), block, 3, 42);
     ASSERT_EQ(primary.size(), 35);
     EXPECT_GT(primary.trace(accel, mode).count(), 0);
     int hits = 0;
     for (int i = 0; i < primary.size(); ++i) {
       const int x = block.x0 + i % block.width(), y = block.y0 + i / block.width();
-      PixelSampler alone(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y), 3, 42);
-      const float u = alone.next(), v = alone.next();
-      const Ray expected = cam.generate(static_cast<float>(x) + u, static_cast<float>(y) + v);
+      SobolSampler alone(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y), 3, 42);
+      const glm::vec2 offset = PixelFilter::box().sample_offset(alone.next2());
+      alone.skip(2);  // the lens, unused by a pinhole
+      const Ray expected =
+          cam.generate(static_cast<float>(x) + 0.5f + offset.x, static_cast<float>(y) + 0.5f + offset.y);
       ASSERT_EQ(std::memcmp(&primary.ray(i), &expected, sizeof(Ray)), 0) << "pixel " << x << "," << y;
-      EXPECT_EQ(primary.sampler(i).dimension(), 2u);
-      EXPECT_EQ(primary.sampler(i).next(), alone.next()) << "the sampler must continue the pixel's stream";
+      EXPECT_EQ(primary.sampler(i).dimension(), 4u);
+      EXPECT_EQ(primary.sampler(i).next1(), alone.next1()) << "the sampler must continue the pixel's stream";
       const Hit h = accel.intersect(expected);
       EXPECT_EQ(std::memcmp(&primary.hit(i), &h, sizeof(Hit)), 0)
           << trace_mode_name(mode) << " pixel " << x << "," << y;
@@ -182,9 +184,9 @@ TEST(PrimaryBlock, RaysSamplersAndHitsMatchTracingOnePixelAtATime) {
 TEST(PrimaryBlock, RefusesEmptyOrOversizedBlocks) {
   const PinholeCamera cam = PinholeCamera::from_desc(spheres().cameras.at(0), 37, 29);
   PrimaryBlock primary;
-  EXPECT_THROW(primary.generate(cam, {0, 0, 0, 8}, 0, 0), std::invalid_argument);
-  EXPECT_THROW(primary.generate(cam, {0, 0, 9, 8}, 0, 0), std::invalid_argument);
-  EXPECT_THROW(primary.generate(cam, {0, 0, 8, 9}, 0, 0), std::invalid_argument);
+  EXPECT_THROW(primary.generate(cam, PixelFilter::box(), {0, 0, 0, 8}, 0, 0), std::invalid_argument);
+  EXPECT_THROW(primary.generate(cam, PixelFilter::box(), {0, 0, 9, 8}, 0, 0), std::invalid_argument);
+  EXPECT_THROW(primary.generate(cam, PixelFilter::box(), {0, 0, 8, 9}, 0, 0), std::invalid_argument);
 }
 
 class PacketModeIsas : public ::testing::TestWithParam<Isa> {};
@@ -233,11 +235,11 @@ ImageRGB pixel_by_pixel(const Accelerator& accel, const RenderSettings& s, std::
     for (int x = 0; x < s.width; ++x) {
       glm::dvec3 sum(0.0);  // the renderer adds up samples in double, in sample order
       for (int i = 0; i < s.spp; ++i) {
-        PixelSampler sampler(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y),
+        SobolSampler sampler(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y),
                              static_cast<std::uint32_t>(i), s.seed);
-        const float u = sampler.next();
-        const float v = sampler.next();
-        const Ray ray = cam.generate(static_cast<float>(x) + u, static_cast<float>(y) + v);
+        const glm::vec2 offset = PixelFilter::box().sample_offset(sampler.next2());
+        sampler.skip(2);  // the lens, unused by a pinhole
+        const Ray ray = cam.generate(static_cast<float>(x) + 0.5f + offset.x, static_cast<float>(y) + 0.5f + offset.y);
         sum += glm::dvec3(s.integrator == IntegratorKind::Whitted
                               ? whitted.radiance(ray, sampler, rays)
                               : debug_radiance(s.integrator, scene, accel, ray, rays));

@@ -137,6 +137,7 @@ TEST(Renderer, CountsEveryRayAndTime) {
   s.spp = 3;
   s.threads = 2;
   s.tile_size = 4;
+  s.integrator = IntegratorKind::Whitted;
   RenderStats stats;
   render_image(scene, accel, cam, s, stats);
   EXPECT_EQ(stats.rays, 2u * 20 * 10 * 3);  // one camera ray and one shadow ray per sample

@@ -271,7 +271,7 @@ glm::vec3 whitted_radiance(const Scene& scene, const Ray& ray) {
   const BruteForce accel(scene.triangles);
   const AreaLights area(scene);
   const WhittedIntegrator whitted(scene, accel, area, 8, 4);
-  PixelSampler sampler(0, 0, 0, 1);
+  SobolSampler sampler(0, 0, 0, 1);
   std::uint64_t rays = 0;
   return whitted.radiance(ray, sampler, rays);
 }

@@ -26,7 +26,7 @@ glm::vec3 radiance(const Scene& scene, const Ray& ray, int max_depth = 8, int li
   const BruteForce accel(scene.triangles);
   const AreaLights area(scene);
   const WhittedIntegrator whitted(scene, accel, area, max_depth, light_samples);
-  PixelSampler sampler(0, 0, 0, 1);
+  SobolSampler sampler(0, 0, 0, 1);
   std::uint64_t rays = 0;
   const glm::vec3 L = whitted.radiance(ray, sampler, rays);
   if (rays_out) *rays_out = rays;

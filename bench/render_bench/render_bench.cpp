@@ -109,24 +109,27 @@ RenderSettings settings_for(const RenderBenchOptions& o, int spp, std::uint64_t 
   s.seed = seed;
   s.filter = PixelFilterType::Box;
   s.mode = TraceMode::Packet;
+  s.light_samples = o.light_samples;
   return s;
+}
+
+fs::path reference_file(const RenderBenchOptions& o, const SuiteScene& entry) {
+  const std::string from = o.reference == ReferenceFrom::Cycles ? "cycles" : "lancer";
+  return o.cache / (entry.name + "-" + std::to_string(o.size) + "px-depth" + std::to_string(o.max_depth) + "-" + from +
+                    "-" + std::to_string(o.reference_spp) + "spp.exr");
 }
 
 // The reference image, made once and kept in the cache folder.
 ImageRGB reference_image(const RenderBenchOptions& o, const SuiteScene& entry, const BenchScene& bench,
                          const Accelerator& accel, const fs::path& script, std::ostream& err) {
-  const std::string from = o.reference == ReferenceFrom::Cycles ? "cycles" : "lancer";
-  const fs::path file = o.cache / (entry.name + "-" + std::to_string(o.size) + "px-depth" +
-                                   std::to_string(o.max_depth) + "-" + from + "-" + std::to_string(o.reference_spp) +
-                                   "spp.exr");
+  const fs::path file = reference_file(o, entry);
   if (fs::exists(file)) return read_image(file);
   fs::create_directories(o.cache);
-  err << "lancer bench --render: " << entry.name << ": rendering the reference (" << from << ", "
-      << o.reference_spp << " spp) to " << file.string() << "\n";
+  err << "lancer bench --render: " << entry.name << ": rendering the reference ("
+      << (o.reference == ReferenceFrom::Cycles ? "Cycles" : "Lancer") << ", " << o.reference_spp << " spp) to "
+      << file.string() << "\n";
   if (o.reference == ReferenceFrom::Cycles) {
-    CyclesJob job{entry.file, file, o.size, o.reference_spp, o.max_depth, o.threads, 1};
-
-    run_cycles(o.blender, script, job);
+    run_cycles(o.blender, script, {entry.file, file, o.size, o.reference_spp, o.max_depth, o.threads, 1});
     return read_image(file);
   }
   RenderStats stats;
@@ -179,11 +182,20 @@ SceneResult measure(const RenderBenchOptions& o, const SuiteScene& entry, bool w
   }
 
   r.mean_lancer = image_mean(image);
-  if (!with_cycles) return r;
+  // Lancer's error, where a reference is cached or can be made; Cycles' only with Cycles.
+  const bool can_reference = o.reference == ReferenceFrom::Lancer || with_cycles;
+  if (!can_reference && !fs::exists(reference_file(o, entry))) return r;
+  ImageRGB ref;
   try {
-    const ImageRGB ref = reference_image(o, entry, bench, *accel, script, err);
+    ref = reference_image(o, entry, bench, *accel, script, err);
     r.mean_ref = image_mean(ref);
     r.mse_lancer = mean_squared_error(image, ref);
+  } catch (const std::exception& e) {
+    r.cycles_failure = e.what();
+    return r;
+  }
+  if (!with_cycles) return r;
+  try {
     const fs::path cycles_file = o.cache / (entry.name + "-cycles-" + std::to_string(o.spp) + "spp.exr");
     std::vector<double> times;
     for (int rep = 0; rep < o.reps; ++rep) {
@@ -215,23 +227,29 @@ std::string sci(double v) {
 }
 
 void write_table(const RenderBenchOptions& o, const std::vector<SceneResult>& results, std::ostream& out) {
-  out << "Path tracer, " << o.size << "x" << o.size << ", " << o.spp << " spp, max depth " << o.max_depth << ", "
+  out << "Path tracer, " << o.size << "x" << o.size << ", " << o.spp << " spp, " << o.light_samples
+      << " light sample(s) per bounce, max depth " << o.max_depth << ", "
       << (o.threads == 0 ? std::string("all") : std::to_string(o.threads)) << " thread(s), box filter, isa "
       << isa_name(best_supported_isa()) << "; times are medians of " << o.reps << " renders.\n\n";
-  out << "| scene | triangles | Lancer s | paths/s | Mrays/s | rays/path | traversal share |\n"
-         "|---|--:|--:|--:|--:|--:|--:|\n";
+  out << "| scene | triangles | Lancer s | paths/s | Mrays/s | rays/path | traversal share | MSE | 1 / (MSE x s) |\n"
+         "|---|--:|--:|--:|--:|--:|--:|--:|--:|\n";
   for (const SceneResult& r : results) {
     if (!r.failure.empty()) {
-      out << "| " << r.name << " | failed: " << r.failure << " | | | | | |\n";
+      out << "| " << r.name << " | failed: " << r.failure << " | | | | | | | |\n";
       continue;
     }
     out << "| " << r.name << " | " << r.triangles << " | " << fixed(r.wall_s, 2) << " | " << fixed(r.paths_per_s, 0)
         << " | " << fixed(r.mrays_per_s, 2) << " | " << fixed(r.rays_per_path, 2) << " | "
-        << fixed(100.0 * r.traversal_share, 1) << " %" << (r.replay_truncated ? " (part)" : "") << " |\n";
+        << fixed(100.0 * r.traversal_share, 1) << " %" << (r.replay_truncated ? " (part)" : "") << " | "
+        << (r.mse_lancer > 0.0 ? sci(r.mse_lancer) + " | " + fixed(1.0 / (r.mse_lancer * (r.wall_s + r.build_s)), 0)
+                               : std::string(" | "))
+        << " |\n";
   }
   const bool any_cycles = std::any_of(results.begin(), results.end(),
                                       [](const SceneResult& r) { return r.cycles || !r.cycles_failure.empty(); });
-  out << "\nTraversal share: the render's tracer calls replayed alone on one thread, over its CPU time.\n";
+  out << "\nTraversal share: the render's tracer calls replayed alone on one thread, over its CPU time. MSE: "
+         "against the " << (o.reference == ReferenceFrom::Cycles ? "Cycles" : "Lancer") << " reference of "
+      << o.reference_spp << " spp, where one is cached or can be made.\n";
   if (!any_cycles) return;
   out << "\nBeside Blender Cycles (same file, camera, size, samples, bounces; errors against a "
       << (o.reference == ReferenceFrom::Cycles ? "Cycles" : "Lancer") << " render of " << o.reference_spp
@@ -255,6 +273,7 @@ void write_table(const RenderBenchOptions& o, const std::vector<SceneResult>& re
 void write_json(const RenderBenchOptions& o, const std::vector<SceneResult>& results, const std::string& file) {
   nlohmann::json j;
   j["size"] = o.size, j["spp"] = o.spp, j["max_depth"] = o.max_depth, j["threads"] = o.threads;
+  j["light_samples"] = o.light_samples;
   j["isa"] = std::string(isa_name(best_supported_isa()));
   j["reference"] = o.reference == ReferenceFrom::Cycles ? "cycles" : "lancer";
   j["reference_spp"] = o.reference_spp;
@@ -265,11 +284,12 @@ void write_json(const RenderBenchOptions& o, const std::vector<SceneResult>& res
     s["triangles"] = r.triangles, s["build_s"] = r.build_s, s["wall_s"] = r.wall_s, s["cpu_s"] = r.cpu_s;
     s["paths_per_s"] = r.paths_per_s, s["mrays_per_s"] = r.mrays_per_s, s["rays_per_path"] = r.rays_per_path;
     s["traversal_share"] = r.traversal_share;
+    if (r.mse_lancer > 0.0) s["mse_lancer"] = r.mse_lancer;
     s["replay"] = {{"closest", r.replay.closest},     {"closest_s", r.replay.closest_s}, {"any", r.replay.any},
                    {"any_s", r.replay.any_s},         {"packet_rays", r.replay.packet_rays},
                    {"packet_s", r.replay.packet_s},   {"truncated", r.replay_truncated}};
     if (r.cycles) {
-      s["cycles_s"] = r.cycles_s, s["mse_lancer"] = r.mse_lancer, s["mse_cycles"] = r.mse_cycles;
+      s["cycles_s"] = r.cycles_s, s["mse_cycles"] = r.mse_cycles;
       s["equal_error_ratio"] = r.equal_error_ratio();
     } else if (!r.cycles_failure.empty()) {
       s["cycles_failure"] = r.cycles_failure;

@@ -22,6 +22,7 @@ struct RenderBenchOptions {
   int size = 256;                   // square image side in pixels
   int spp = 64;
   int max_depth = 64;
+  int light_samples = 1;  // area-light samples per bounce
   int threads = 2;         // 0: every hardware thread
   int reps = 3;            // timed renders per scene; the median is reported
   int trace_passes = 4;    // passes recorded for the traversal share

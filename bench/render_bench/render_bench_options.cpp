@@ -26,6 +26,8 @@ std::optional<RenderBenchOptions> parse_render_bench_options(int argc, const cha
   app.add_option("--spp", o.spp, "Samples per pixel")->check(CLI::Range(1, 1 << 20))->capture_default_str();
   app.add_option("--max-depth", o.max_depth, "Bounce limit: Lancer's --max-depth, Cycles' max_bounces + 1")
       ->check(CLI::Range(1, 64))->capture_default_str();
+  app.add_option("--light-samples", o.light_samples, "Area-light samples per bounce (lancer render --light-samples)")
+      ->check(CLI::Range(1, 4096))->capture_default_str();
   app.add_option("--threads", o.threads, "Render threads (0: all cores; both renderers)")
       ->check(CLI::Range(0, 4096))->capture_default_str();
   app.add_option("--reps", o.reps, "Timed renders per scene (the median is reported)")

@@ -127,7 +127,7 @@ TEST_F(RenderBenchProgram, TinyRunPrintsTheTableAndJson) {
       << r.out;
   EXPECT_NE(r.out.find("| cornell-box | 32 | "), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("| balls-1 | "), std::string::npos) << r.out;
-  EXPECT_EQ(r.out.find("Cycles"), std::string::npos) << "--cycles off, yet: " << r.out;
+  EXPECT_EQ(r.out.find("Beside Blender Cycles"), std::string::npos) << "--cycles off, yet: " << r.out;
   const nlohmann::json j = nlohmann::json::parse(file_text(json));
   ASSERT_EQ(j["scenes"].size(), 2u);
   for (const auto& s : j["scenes"]) {

@@ -12,8 +12,7 @@ glm::vec3 schlick_fresnel(const glm::vec3& f0, float cos_theta);
 
 // The exact unpolarised Fresnel reflectance of a smooth dielectric interface (the mean of the
 // s and p reflectances); cos_i >= 0 on the incident side, eta = n(transmitted side) /
-// n(incident side). 1 under total internal reflection. (whitted.h has the same function for
-// the Whitted integrator under the name fresnel_dielectric.)
+// n(incident side). 1 under total internal reflection. The Whitted integrator uses it too.
 float exact_dielectric_fresnel(float cos_i, float eta);
 
 // F0 of a dielectric with index `ior` against air (KHR_materials_ior): ((ior - 1) / (ior + 1))^2.

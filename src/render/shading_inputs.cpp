@@ -68,6 +68,7 @@ ShadingInputs evaluate_shading(const Scene& scene, const Ray& ray, const Hit& hi
   si.p = sp.p;
   si.front_face = sp.front_face;
   si.material = sp.material;
+  si.prim = hit.prim;
   if (flags & kHasTexcoords) si.uv0 = interpolate(scene.texcoords, tri, w, u, v);
   if ((flags & kHasTexcoords1) && !scene.texcoords1.empty()) si.uv1 = interpolate(scene.texcoords1, tri, w, u, v);
 

@@ -63,6 +63,7 @@ struct ShadingInputs {
   glm::vec3 attenuation_color{1.0f};
   bool front_face = true;  // the ray hit the side cross(b - a, c - a) points to
   const Material* material = nullptr;
+  std::uint32_t prim = kNoHit;  // the triangle hit
 };
 
 // Whether `m` is a thin wall (KHR_materials_volume, "Properties": thicknessFactor 0, the

@@ -29,9 +29,9 @@ struct SurfacePoint {
 SurfacePoint make_surface_point(const Scene& scene, const Ray& ray, const Hit& hit);
 
 // Base colour of material `m` at barycentrics (u, v) of triangle `prim`, linear RGB:
-// the material's factor only, so the Whitted images stay as they are. Textured
-// shading (every factor times its texture, normal maps) is evaluate_shading() in
-// shading_inputs.h.
+// the material's factor only. Every integrator shades with evaluate_shading() in
+// shading_inputs.h (every factor times its texture, normal maps); a SurfacePoint serves
+// the geometric debug views and the ray sets.
 glm::vec3 base_color_at(const Scene& scene, const Material& m, std::uint32_t prim, float u, float v);
 
 }  // namespace lancer

@@ -1,6 +1,7 @@
 // Whitted-style recursive ray tracing (Whitted, "An Improved Illumination Model for
 // Shaded Display", CACM 23(6), 1980), as taught in the course, with unbiased soft shadows
-// from emissive triangles.
+// from emissive triangles. It shades the surface the path tracer shades (evaluate_shading:
+// textures, normal maps, emissive textures) with the Fresnel terms of fresnel.h.
 //
 // At each hit: emission (front side only) + one of
 //  - mirror (metallic >= 0.5 and roughness < 0.2): Fresnel-Schlick with F0 = base colour
@@ -25,16 +26,10 @@
 #include "accel/ray_offset.h"
 #include "render/lights.h"
 #include "render/sobol_sampler.h"
-#include "render/surface.h"
+#include "render/shading_inputs.h"
 #include "scene/scene.h"
 
 namespace lancer {
-
-// Fresnel reflectance of a smooth dielectric for unpolarised light, eta = n_t / n_i,
-// cos_i the cosine of the incident angle (>= 0). Returns 1 under total internal reflection.
-float fresnel_dielectric(float cos_i, float eta);
-// Schlick's approximation: F0 + (1 - F0)(1 - cos_i)^5.
-glm::vec3 fresnel_schlick(const glm::vec3& f0, float cos_i);
 
 class WhittedIntegrator {
  public:
@@ -54,20 +49,19 @@ class WhittedIntegrator {
     return shade(ray, hit, 0, sampler, rays);
   }
 
-  // Reflected radiance at a Lambertian point from all lights (no emission of its own).
-  glm::vec3 direct_lighting(const SurfacePoint& sp, SobolSampler& sampler, std::uint64_t& rays) const;
-
  private:
+  // Reflected radiance at a Lambertian point from all lights (no emission of its own).
+  glm::vec3 direct_lighting(const ShadingInputs& si, SobolSampler& sampler, std::uint64_t& rays) const;
   // Counts and intersects `ray`, then shades its hit.
   glm::vec3 trace(const Ray& ray, int depth, SobolSampler& sampler, std::uint64_t& rays) const;
   // Radiance along `ray` given its closest hit, `depth` specular bounces from the camera.
   glm::vec3 shade(const Ray& ray, const Hit& hit, int depth, SobolSampler& sampler, std::uint64_t& rays) const;
-  glm::vec3 mirror(const SurfacePoint& sp, const Ray& ray, int depth, SobolSampler& sampler,
+  glm::vec3 mirror(const ShadingInputs& si, const Ray& ray, int depth, SobolSampler& sampler,
                    std::uint64_t& rays) const;
-  glm::vec3 dielectric(const SurfacePoint& sp, const Ray& ray, int depth, SobolSampler& sampler,
+  glm::vec3 dielectric(const ShadingInputs& si, const Ray& ray, int depth, SobolSampler& sampler,
                        std::uint64_t& rays) const;
-  glm::vec3 punctual_lighting(const SurfacePoint& sp, const SurfaceOffset& leave, std::uint64_t& rays) const;
-  glm::vec3 area_lighting(const SurfacePoint& sp, const SurfaceOffset& leave, SobolSampler& sampler,
+  glm::vec3 punctual_lighting(const ShadingInputs& si, const SurfaceOffset& leave, std::uint64_t& rays) const;
+  glm::vec3 area_lighting(const ShadingInputs& si, const SurfaceOffset& leave, SobolSampler& sampler,
                           std::uint64_t& rays) const;
 
   const Scene& scene_;

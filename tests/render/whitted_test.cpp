@@ -1,6 +1,8 @@
 // The Whitted integrator against closed-form answers on hand-built scenes.
 #include "render/whitted.h"
 
+#include "render/fresnel.h"
+
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -8,6 +10,8 @@
 
 #include "accel/brute_force.h"
 #include "render/lights.h"
+#include "render/shading_inputs.h"
+#include "render/texture.h"
 #include "scene/scene_builder.h"
 #include "render_test_scenes.h"
 
@@ -127,15 +131,15 @@ TEST(Whitted, MirrorFollowsSchlickAtAnAngle) {
 
 TEST(Whitted, DielectricFresnelValues) {
   // Normal incidence on glass: ((1.5 - 1) / (1.5 + 1))^2 = 0.04.
-  EXPECT_NEAR(fresnel_dielectric(1.0f, 1.5f), 0.04f, 1e-7f);
+  EXPECT_NEAR(exact_dielectric_fresnel(1.0f, 1.5f), 0.04f, 1e-7f);
   // 45 degrees on glass: Rs = 0.0920, Rp = 0.0085 (Hecht, Optics, fig. 4.48), mean 0.0502.
-  EXPECT_NEAR(fresnel_dielectric(std::sqrt(0.5f), 1.5f), 0.05025f, 5e-5f);
+  EXPECT_NEAR(exact_dielectric_fresnel(std::sqrt(0.5f), 1.5f), 0.05025f, 5e-5f);
   // Leaving glass beyond the critical angle asin(1/1.5) = 41.8 degrees: total reflection.
-  EXPECT_EQ(fresnel_dielectric(std::cos(0.8f), 1.0f / 1.5f), 1.0f);
-  EXPECT_LT(fresnel_dielectric(std::cos(0.7f), 1.0f / 1.5f), 1.0f);
+  EXPECT_EQ(exact_dielectric_fresnel(std::cos(0.8f), 1.0f / 1.5f), 1.0f);
+  EXPECT_LT(exact_dielectric_fresnel(std::cos(0.7f), 1.0f / 1.5f), 1.0f);
   // Grazing incidence reflects everything; matched media reflect nothing.
-  EXPECT_EQ(fresnel_dielectric(0.0f, 1.5f), 1.0f);
-  EXPECT_EQ(fresnel_dielectric(0.7f, 1.0f), 0.0f);
+  EXPECT_EQ(exact_dielectric_fresnel(0.0f, 1.5f), 1.0f);
+  EXPECT_EQ(exact_dielectric_fresnel(0.7f, 1.0f), 0.0f);
 }
 
 TEST(Whitted, GlassSurfaceReflectsFourPercentAtNormalIncidence) {
@@ -159,7 +163,7 @@ TEST(Whitted, RefractionFollowsSnell) {
   const float x = std::tan(std::asin(std::sqrt(0.5f) / 1.5f));
   append_quad(scene, {x - 0.01f, -1, -1}, {x + 0.01f, -1, -1}, {x + 0.01f, 1, -1}, {x - 0.01f, 1, -1}, strip);
   const glm::vec3 dir = glm::normalize(glm::vec3(1, 0, -1));
-  const float F = fresnel_dielectric(std::sqrt(0.5f), 1.5f);
+  const float F = exact_dielectric_fresnel(std::sqrt(0.5f), 1.5f);
   expect_rel(radiance(scene, ray_from(-dir, dir)), (1.0f - F) * e, 1e-5f);
   // Moving the strip by 0.03 (a 1 degree error in the angle) loses it.
   Scene shifted = scene;
@@ -205,6 +209,54 @@ TEST(Whitted, CountsEveryRay) {
   EXPECT_EQ(rays, 2u);  // camera ray + one shadow ray (no area lights)
   radiance(f.scene, ray_from({0, 0, 5}, {0, 0, 1}), 8, 4, &rays);
   EXPECT_EQ(rays, 1u);  // a miss
+}
+
+// Whitted shades what the path tracer shades (evaluate_shading): an emissive texture
+// scales the emission, a base colour texture the diffuse reflection. (It used the
+// material's factors alone before.)
+TEST(Whitted, TexturesApplyAsInThePathTracer) {
+  for (const bool emissive : {true, false}) {
+    Scene scene;
+    Image image;
+    image.width = image.height = 1;
+    image.channels = 3;
+    image.pixels = {128, 64, 32};  // sRGB
+    scene.images.push_back(image);
+    Texture texture;
+    texture.image = 0;
+    texture.mag_filter = kFilterNearest;
+    scene.textures.push_back(texture);
+    Material m = test::diffuse_material(glm::vec3(1.0f));
+    if (emissive) {
+      m.emissive_factor = glm::vec3(2.0f);
+      m.emissive_texture.texture = 0;
+    } else {
+      m.base_color_texture.texture = 0;
+    }
+    scene.materials.push_back(m);
+    const glm::vec3 a(0, 0, 0), b(1, 0, 0), c(1, 1, 0), d(0, 1, 0);
+    SceneBuilder builder(scene, "quad");
+    for (const auto& tri : {std::array<glm::vec3, 3>{a, b, c}, std::array<glm::vec3, 3>{a, c, d}}) {
+      const glm::vec2 uv[3] = {{tri[0].x, tri[0].y}, {tri[1].x, tri[1].y}, {tri[2].x, tri[2].y}};
+      CornerAttributes attribs;
+      attribs.texcoords = uv;
+      builder.add_triangle(tri.data(), 0, 0, attribs);
+    }
+    if (!emissive) {  // lit by a point light straight above
+      PunctualLight light;
+      light.type = LightType::Point;
+      light.position = {0.5f, 0.5f, 1.0f};
+      light.intensity = 3.0f;
+      scene.lights.push_back(light);
+    }
+    const Ray ray = test::ray_from({0.5f, 0.5f, 2.0f}, {0, 0, -1});
+    const BruteForce accel(scene.triangles);
+    const ShadingInputs si = evaluate_shading(scene, ray, accel.intersect(ray));
+    const glm::vec3 expected = emissive ? si.emission : si.base_color / 3.14159265f * 3.0f;
+    ASSERT_LT(expected.z, expected.x * 0.5f) << "the texture must tint the result";
+    const glm::vec3 L = radiance(scene, ray);
+    for (int k = 0; k < 3; ++k) EXPECT_NEAR(L[k], expected[k], 1e-4f * expected.x) << (emissive ? "emission" : "diffuse") << k;
+  }
 }
 
 }  // namespace

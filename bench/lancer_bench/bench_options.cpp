@@ -76,7 +76,8 @@ std::optional<BenchOptions> parse_bench_options(int argc, const char* const* arg
       "triangles and rays. Prints a markdown table on stdout (Mrays/s: median of --reps runs, with min and max), "
       "progress and checks on stderr. Before timing each scene and ray set, Lancer's packet answers must equal its "
       "single-ray answers bit for bit, and Lancer must agree with Embree (same triangle, same t) except at ties; "
-      "a set that fails is reported and not timed, and the exit code is then 1.",
+      "a set that fails is reported and not timed, and the exit code is then 1. `lancer bench --render` measures "
+      "whole path-traced renders instead (beside Blender's Cycles when installed; --render --help).",
       "lancer-bench"};
   std::vector<std::string> scenes, sets, modes, isas, threads;
   std::string size, reps, models;

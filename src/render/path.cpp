@@ -68,136 +68,199 @@ PathIntegrator::PathIntegrator(const Scene& scene, const Accelerator& accel, con
       max_depth_(max_depth),
       light_samples_(std::max(1, light_samples)) {}
 
-glm::vec3 PathIntegrator::radiance_from_hit(const Ray& camera_ray, const Hit& first_hit, SobolSampler& sampler,
+glm::vec3 PathIntegrator::radiance_from_hit(const Ray& ray, const Hit& hit, SobolSampler& sampler,
                                             std::uint64_t& rays) const {
-  glm::vec3 L(0.0f), beta(1.0f);
-  Ray ray = camera_ray;
-  Hit hit = first_hit;
-  float prev_pdf = 0.0f;   // solid-angle pdf of the BSDF sample that made `ray`
-  bool prev_delta = true;  // the camera ray, or a delta lobe: no light sampling competes
-  bool in_volume = false;
-  glm::vec3 sigma_a(0.0f);
+  Scratch scratch;
+  glm::vec3 L;
+  radiance_block(&ray, &hit, &sampler, 1, &L, rays, scratch);
+  return L;
+}
 
-  for (int depth = 0;; ++depth) {
-    const float dir_length = glm::length(ray.dir);
-    const glm::vec3 dir = ray.dir / dir_length;
-    if (!hit.valid()) {
-      if (environment_) {
-        const float w = prev_delta ? 1.0f : power_heuristic(prev_pdf, environment_->pdf(dir));
-        L += beta * environment_->radiance(dir) * w;
-      }
-      break;
-    }
-    if (in_volume) beta *= glm::exp(-sigma_a * (hit.t * dir_length));
-    const ShadingInputs si = evaluate_shading(scene_, ray, hit);
-    // Origins of the rays leaving this point: pushed off the triangle just far enough that
-    // the ray cannot hit it again, for each ray's exact direction (ray_offset.h).
-    const SurfaceOffset leave(si.p, si.ng, triangle_corners(scene_.triangles, hit.prim));
-
-    if (si.front_face && !is_black(si.emission)) {
-      float w = 1.0f;
-      if (!prev_delta) {
-        const float pdf_area = area_lights_.pdf_area(hit.prim);
-        const float cos_l = std::abs(glm::dot(si.ng, dir));
-        const float distance = hit.t * dir_length;
-        if (pdf_area > 0.0f && cos_l > 0.0f)
-          w = power_heuristic(prev_pdf, light_samples_ * (pdf_area * distance * distance / cos_l));
-      }
-      L += beta * si.emission * w;
-    }
-    if (depth >= max_depth_) break;
-
-    // The dimensions of one bounce: a fixed layout whatever is used, each value computed
-    // only where it is used.
-    const std::uint32_t dims = sampler.dimension();
-    sampler.skip(kBounceDimensions + kLightDimensions * (light_samples_ - 1));
-
-    const BsdfInputs inputs{si.base_color, si.metallic,       si.roughness,   si.ior,
-                            si.specular,   si.specular_color, si.transmission, si.thin_walled};
-    const Bsdf bsdf(inputs, ShadingFrame::from_normal_tangent(si.ns, si.tangent), si.front_face);
-    const glm::vec3 wo = -dir;
-
-    if (!bsdf.is_delta_only()) {
-      // Emissive triangles: light_samples_ samples, the first in the bounce's base layout,
-      // the others after it, each combined with the BSDF sample by MIS as one strategy of
-      // light_samples_ samples.
-      for (int k = 0; k < light_samples_ && !area_lights_.empty(); ++k) {
-        const std::uint32_t at = k == 0 ? dims : dims + kBounceDimensions + kLightDimensions * (k - 1);
-        const glm::vec2 u_light = sampler.get2(at + kLightPointDimensions);
-        const AreaLightSample ls = area_lights_.sample(sampler.get1(at + kLightPickDimension), u_light.x, u_light.y);
-        const glm::vec3 d = ls.point - si.p;
-        const float dist2 = glm::dot(d, d);
-        if (dist2 > kMinLightDistance2 && ls.pdf_area > 0.0f) {
-          const glm::vec3 wi = d / std::sqrt(dist2);
-          const float cos_l = -glm::dot(ls.normal, wi);
-          const BsdfEval e = cos_l > 0.0f && sides_agree(si, wi) ? bsdf.evaluate(wo, wi) : BsdfEval{};
-          if (!is_black(e.f)) {
-            const Ray shadow = shadow_ray_to_area_light(leave, ls.point, ls.normal);
-            ++rays;
-            if (!accel_.occluded(shadow)) {
-              glm::vec3 Le = ls.radiance;
-              if (scene_.materials[scene_.material_id[ls.prim]].emissive_texture.present()) {
-                Ray toward;
-                toward.org = si.p;
-                toward.dir = wi;
-                Le = evaluate_shading(scene_, toward, Hit{std::sqrt(dist2), ls.prim, ls.b1, ls.b2}).emission;
-              }
-              const float light_pdf = light_samples_ * (ls.pdf_area * dist2 / cos_l);
-              L += beta * e.f * Le * (power_heuristic(light_pdf, e.pdf) / light_pdf);
-            }
-          }
-        }
-      }
-      // The environment.
-      if (environment_) {
-        const EnvSample es = environment_->sample(sampler.get2(dims + kEnvironmentDimensions));
-        const BsdfEval e = es.pdf > 0.0f && sides_agree(si, es.dir) ? bsdf.evaluate(wo, es.dir) : BsdfEval{};
-        if (!is_black(e.f) && !is_black(es.radiance)) {
-          Ray shadow;
-          shadow.org = leave.origin(es.dir);
-          shadow.dir = es.dir;
-          ++rays;
-          if (!accel_.occluded(shadow))
-            L += beta * e.f * es.radiance * (power_heuristic(es.pdf, e.pdf) / es.pdf);
-        }
-      }
-      // Punctual lights: delta lights, one shadow ray each.
-      for (const PunctualLight& light : scene_.lights) {
-        const PunctualIncidence in = illuminate(light, si.p);
-        if (is_black(in.irradiance) || !sides_agree(si, in.wi)) continue;
-        const glm::vec3 f = bsdf.eval(wo, in.wi);
-        if (is_black(f)) continue;
-        const Ray shadow = shadow_ray_to_punctual(leave, light, in.wi);
-        ++rays;
-        if (!accel_.occluded(shadow)) L += beta * f * in.irradiance;
-      }
-    }
-
-    // Continue the path by sampling the BSDF.
-    const std::optional<BsdfSample> bs =
-        bsdf.sample(wo, sampler.get1(dims + kLobeDimension), sampler.get2(dims + kBsdfDimensions));
-    if (!bs || !sides_agree(si, bs->wi)) break;
-    beta *= bs->weight;
-    if (is_black(beta) || !is_finite(beta)) break;
-    prev_pdf = bs->pdf;
-    prev_delta = bs->delta;
-    // Through a volume boundary the path enters (front face) or leaves the medium; through a
-    // thin wall it stays where it was.
-    if (bs->transmitted && !si.thin_walled) in_volume = si.front_face && volume_absorption(si, sigma_a);
-    if (depth + 1 >= kRouletteDepth) {
-      const float survive = std::max(kMinSurvival, std::min(1.0f, max_component(beta)));
-      if (sampler.get1(dims + kRouletteDimension) >= survive) break;
-      beta /= survive;
-    }
-    ray = Ray{};
-    ray.org = leave.origin(bs->wi);
-    ray.dir = bs->wi;
-    ++rays;
-    hit = accel_.intersect(ray);
+void PathIntegrator::radiance_block(const Ray* rays, const Hit* hits, SobolSampler* samplers, int count,
+                                    glm::vec3* radiance, std::uint64_t& ray_count, Scratch& scratch) const {
+  scratch.paths.assign(static_cast<std::size_t>(count), Path{});
+  scratch.live.clear();
+  scratch.rays.clear();
+  scratch.hits.clear();
+  for (int i = 0; i < count; ++i) {
+    scratch.paths[static_cast<std::size_t>(i)].sampler = &samplers[i];
+    scratch.live.push_back(i);
+    scratch.rays.push_back(rays[i]);
+    scratch.hits.push_back(hits[i]);
   }
-  // A sample that went non-finite (a degenerate configuration the checks above missed)
-  // is dropped rather than poisoning its pixel.
-  return is_finite(L) ? L : glm::vec3(0.0f);
+  for (int depth = 0; !scratch.live.empty(); ++depth) {
+    // Shade every live path; each queues its shadow rays and, if it goes on, its next ray.
+    scratch.shadows.clear();
+    scratch.next_live.clear();
+    scratch.next_rays.clear();
+    for (std::size_t k = 0; k < scratch.live.size(); ++k) {
+      const int index = scratch.live[k];
+      if (bounce(scratch.paths[static_cast<std::size_t>(index)], index, scratch.rays[k], scratch.hits[k], depth,
+                 scratch, ray_count))
+        scratch.next_live.push_back(index);
+    }
+    // The shadow rays: each unoccluded one adds its light, in the order each path queued them.
+    scratch.stats.shadow_batches += scratch.shadows.empty() ? 0 : 1;
+    scratch.stats.shadow_rays += scratch.shadows.size();
+    for (const Scratch::Shadow& shadow : scratch.shadows)
+      if (!accel_.occluded(shadow.ray)) scratch.paths[static_cast<std::size_t>(shadow.path)].L += shadow.contribution;
+    // The continuation rays.
+    std::swap(scratch.live, scratch.next_live);
+    std::swap(scratch.rays, scratch.next_rays);
+    trace_batch(scratch);
+  }
+  // A sample that went non-finite (a degenerate configuration the checks missed) is
+  // dropped rather than poisoning its pixel.
+  for (int i = 0; i < count; ++i) {
+    const glm::vec3& L = scratch.paths[static_cast<std::size_t>(i)].L;
+    radiance[i] = is_finite(L) ? L : glm::vec3(0.0f);
+  }
+}
+
+namespace {
+
+// The sign bits of a direction: rays of one octant cross every kd-tree plane the same way.
+int octant(const glm::vec3& d) { return (d.x < 0.0f ? 1 : 0) | (d.y < 0.0f ? 2 : 0) | (d.z < 0.0f ? 4 : 0); }
+
+}  // namespace
+
+// A batch of continuation rays all in one octant (those leaving a flat mirror, say) goes
+// through the packet kernel, any other ray by ray: measured on the Cornell boxes and
+// balls-3, packets of the mixed directions of diffuse bounces gain nothing (docs/performance.md).
+// Both give the same hits.
+void PathIntegrator::trace_batch(Scratch& scratch) const {
+  const std::size_t n = scratch.rays.size();
+  scratch.hits.resize(n);
+  if (n == 0) return;
+  ++scratch.stats.continuation_batches;
+  scratch.stats.continuation_rays += n;
+  const int first = octant(scratch.rays[0].dir);
+  bool coherent = n >= kMinPacketRays;
+  for (std::size_t k = 1; k < n && coherent; ++k) coherent = octant(scratch.rays[k].dir) == first;
+  if (coherent) {
+    scratch.stats.packet_rays += n;
+    accel_.intersect_packet(scratch.rays.data(), scratch.hits.data(), static_cast<int>(n));
+  } else {
+    for (std::size_t k = 0; k < n; ++k) scratch.hits[k] = accel_.intersect(scratch.rays[k]);
+  }
+}
+
+bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hit, int depth, Scratch& scratch,
+                            std::uint64_t& ray_count) const {
+  SobolSampler& sampler = *path.sampler;
+  glm::vec3& L = path.L;
+  glm::vec3& beta = path.beta;
+  const float dir_length = glm::length(ray.dir);
+  const glm::vec3 dir = ray.dir / dir_length;
+  if (!hit.valid()) {
+    if (environment_) {
+      const float w = path.prev_delta ? 1.0f : power_heuristic(path.prev_pdf, environment_->pdf(dir));
+      L += beta * environment_->radiance(dir) * w;
+    }
+    return false;
+  }
+  if (path.in_volume) beta *= glm::exp(-path.sigma_a * (hit.t * dir_length));
+  const ShadingInputs si = evaluate_shading(scene_, ray, hit);
+  // Origins of the rays leaving this point: pushed off the triangle just far enough that
+  // the ray cannot hit it again, for each ray's exact direction (ray_offset.h).
+  const SurfaceOffset leave(si.p, si.ng, triangle_corners(scene_.triangles, hit.prim));
+
+  if (si.front_face && !is_black(si.emission)) {
+    float w = 1.0f;
+    if (!path.prev_delta) {
+      const float pdf_area = area_lights_.pdf_area(hit.prim);
+      const float cos_l = std::abs(glm::dot(si.ng, dir));
+      const float distance = hit.t * dir_length;
+      if (pdf_area > 0.0f && cos_l > 0.0f)
+        w = power_heuristic(path.prev_pdf, light_samples_ * (pdf_area * distance * distance / cos_l));
+    }
+    L += beta * si.emission * w;
+  }
+  if (depth >= max_depth_) return false;
+
+  // The dimensions of one bounce: a fixed layout whatever is used, each value computed
+  // only where it is used.
+  const std::uint32_t dims = sampler.dimension();
+  sampler.skip(kBounceDimensions + kLightDimensions * (light_samples_ - 1));
+
+  const BsdfInputs inputs{si.base_color, si.metallic,       si.roughness,   si.ior,
+                          si.specular,   si.specular_color, si.transmission, si.thin_walled};
+  const Bsdf bsdf(inputs, ShadingFrame::from_normal_tangent(si.ns, si.tangent), si.front_face);
+  const glm::vec3 wo = -dir;
+  auto queue_shadow = [&](const Ray& shadow, const glm::vec3& contribution) {
+    ++ray_count;
+    scratch.shadows.push_back({shadow, contribution, index});
+  };
+
+  if (!bsdf.is_delta_only()) {
+    // Emissive triangles: light_samples_ samples, the first in the bounce's base layout,
+    // the others after it, each combined with the BSDF sample by MIS as one strategy of
+    // light_samples_ samples.
+    for (int k = 0; k < light_samples_ && !area_lights_.empty(); ++k) {
+      const std::uint32_t at = k == 0 ? dims : dims + kBounceDimensions + kLightDimensions * (k - 1);
+      const glm::vec2 u_light = sampler.get2(at + kLightPointDimensions);
+      const AreaLightSample ls = area_lights_.sample(sampler.get1(at + kLightPickDimension), u_light.x, u_light.y);
+      const glm::vec3 d = ls.point - si.p;
+      const float dist2 = glm::dot(d, d);
+      if (!(dist2 > kMinLightDistance2 && ls.pdf_area > 0.0f)) continue;
+      const glm::vec3 wi = d / std::sqrt(dist2);
+      const float cos_l = -glm::dot(ls.normal, wi);
+      const BsdfEval e = cos_l > 0.0f && sides_agree(si, wi) ? bsdf.evaluate(wo, wi) : BsdfEval{};
+      if (is_black(e.f)) continue;
+      glm::vec3 Le = ls.radiance;
+      if (scene_.materials[scene_.material_id[ls.prim]].emissive_texture.present()) {
+        Ray toward;
+        toward.org = si.p;
+        toward.dir = wi;
+        Le = evaluate_shading(scene_, toward, Hit{std::sqrt(dist2), ls.prim, ls.b1, ls.b2}).emission;
+      }
+      const float light_pdf = light_samples_ * (ls.pdf_area * dist2 / cos_l);
+      queue_shadow(shadow_ray_to_area_light(leave, ls.point, ls.normal),
+                   beta * e.f * Le * (power_heuristic(light_pdf, e.pdf) / light_pdf));
+    }
+    // The environment.
+    if (environment_) {
+      const EnvSample es = environment_->sample(sampler.get2(dims + kEnvironmentDimensions));
+      const BsdfEval e = es.pdf > 0.0f && sides_agree(si, es.dir) ? bsdf.evaluate(wo, es.dir) : BsdfEval{};
+      if (!is_black(e.f) && !is_black(es.radiance)) {
+        Ray shadow;
+        shadow.org = leave.origin(es.dir);
+        shadow.dir = es.dir;
+        queue_shadow(shadow, beta * e.f * es.radiance * (power_heuristic(es.pdf, e.pdf) / es.pdf));
+      }
+    }
+    // Punctual lights: delta lights, one shadow ray each.
+    for (const PunctualLight& light : scene_.lights) {
+      const PunctualIncidence in = illuminate(light, si.p);
+      if (is_black(in.irradiance) || !sides_agree(si, in.wi)) continue;
+      const glm::vec3 f = bsdf.eval(wo, in.wi);
+      if (is_black(f)) continue;
+      queue_shadow(shadow_ray_to_punctual(leave, light, in.wi), beta * f * in.irradiance);
+    }
+  }
+
+  // Continue the path by sampling the BSDF.
+  const std::optional<BsdfSample> bs =
+      bsdf.sample(wo, sampler.get1(dims + kLobeDimension), sampler.get2(dims + kBsdfDimensions));
+  if (!bs || !sides_agree(si, bs->wi)) return false;
+  beta *= bs->weight;
+  if (is_black(beta) || !is_finite(beta)) return false;
+  path.prev_pdf = bs->pdf;
+  path.prev_delta = bs->delta;
+  // Through a volume boundary the path enters (front face) or leaves the medium; through a
+  // thin wall it stays where it was.
+  if (bs->transmitted && !si.thin_walled) path.in_volume = si.front_face && volume_absorption(si, path.sigma_a);
+  if (depth + 1 >= kRouletteDepth) {
+    const float survive = std::max(kMinSurvival, std::min(1.0f, max_component(beta)));
+    if (sampler.get1(dims + kRouletteDimension) >= survive) return false;
+    beta /= survive;
+  }
+  Ray next;
+  next.org = leave.origin(bs->wi);
+  next.dir = bs->wi;
+  ++ray_count;
+  scratch.next_rays.push_back(next);
+  return true;
 }
 
 }  // namespace lancer

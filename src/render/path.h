@@ -14,6 +14,7 @@
 #pragma once
 
 #include <cstdint>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
@@ -25,6 +26,18 @@
 
 namespace lancer {
 
+// How the path tracer's rays went in batches (one batch per bounce of a block), summed.
+struct PathBatchStats {
+  std::uint64_t continuation_batches = 0, continuation_rays = 0;
+  std::uint64_t packet_rays = 0;  // continuation rays traced as packets (coherent batches)
+  std::uint64_t shadow_batches = 0, shadow_rays = 0;
+  PathBatchStats& operator+=(const PathBatchStats& o) {
+    continuation_batches += o.continuation_batches, continuation_rays += o.continuation_rays;
+    packet_rays += o.packet_rays, shadow_batches += o.shadow_batches, shadow_rays += o.shadow_rays;
+    return *this;
+  }
+};
+
 class PathIntegrator {
  public:
   // Keeps references: all must outlive the integrator. `environment` may be null (black).
@@ -35,17 +48,65 @@ class PathIntegrator {
   PathIntegrator(const Scene& scene, const Accelerator& accel, const AreaLights& area_lights,
                  const Environment* environment, int max_depth, int light_samples = 1);
 
-  // Radiance arriving along -ray.dir at ray.org, given the camera ray's closest hit.
-  // `rays` is increased by every ray traced here (not the camera ray itself).
+  // Memory radiance_block reuses from block to block (keep one per thread): once it has
+  // held the largest block, the bounce loop allocates nothing.
+  struct Scratch;
+
+  // The paths of `count` camera rays with their closest hits (a block of pixels), advanced
+  // together bounce by bounce: each bounce shades every live path, then traces the
+  // block's shadow rays as one batch and its continuation rays as another (the wavefront
+  // formulation of Laine, Karras & Aila 2013, "Megakernels Considered Harmful", on a CPU
+  // block rather than a GPU-wide queue). radiance[i] is the radiance arriving along
+  // -rays[i].dir; each path draws from samplers[i] only, so it is the same whatever the
+  // block holds. `ray_count` is increased by every ray traced here (not the camera rays).
+  void radiance_block(const Ray* rays, const Hit* hits, SobolSampler* samplers, int count, glm::vec3* radiance,
+                      std::uint64_t& ray_count, Scratch& scratch) const;
+
+  // One path: radiance_block of a block of one.
   glm::vec3 radiance_from_hit(const Ray& ray, const Hit& hit, SobolSampler& sampler, std::uint64_t& rays) const;
 
  private:
+  struct Path;
+  // One bounce of `path` at `hit` of `ray`, `depth` bounces after the camera ray: adds the
+  // emission seen, queues its shadow rays (with what each adds if unoccluded) and, when the
+  // path goes on, its continuation ray. Returns whether it goes on.
+  bool bounce(Path& path, int index, const Ray& ray, const Hit& hit, int depth, Scratch& scratch,
+              std::uint64_t& ray_count) const;
+  // Closest hits of scratch.rays into scratch.hits: a packet when they are coherent.
+  void trace_batch(Scratch& scratch) const;
+  // Fewer continuation rays than this are traced one by one.
+  static constexpr std::size_t kMinPacketRays = 16;
+
   const Scene& scene_;
   const Accelerator& accel_;
   const AreaLights& area_lights_;
   const Environment* environment_;
   int max_depth_;
   int light_samples_;
+};
+
+// The state of one path between bounces.
+struct PathIntegrator::Path {
+  glm::vec3 L{0.0f}, beta{1.0f};
+  float prev_pdf = 0.0f;   // solid-angle pdf of the BSDF sample that made the ray
+  bool prev_delta = true;  // the camera ray, or a delta lobe: no light sampling competes
+  bool in_volume = false;
+  glm::vec3 sigma_a{0.0f};
+  SobolSampler* sampler = nullptr;
+};
+
+struct PathIntegrator::Scratch {
+  struct Shadow {
+    Ray ray;
+    glm::vec3 contribution;  // added to the path's L if the ray is unoccluded
+    int path;
+  };
+  std::vector<Path> paths;          // one per camera ray of the block
+  std::vector<int> live, next_live;  // the paths still going, by index
+  std::vector<Ray> rays, next_rays;  // their rays, in the order of `live`
+  std::vector<Hit> hits;
+  std::vector<Shadow> shadows;  // the bounce's shadow rays, path by path in order
+  PathBatchStats stats;         // added up over every block this scratch served
 };
 
 }  // namespace lancer

@@ -60,6 +60,10 @@ class PrimaryBlock {
   const Ray& ray(int i) const { return rays_[static_cast<std::size_t>(i)]; }
   const Hit& hit(int i) const { return hits_[static_cast<std::size_t>(i)]; }
   SobolSampler& sampler(int i) { return sobol_[static_cast<std::size_t>(i)]; }
+  // All of them, for the integrators that shade a block at once.
+  const Ray* rays() const { return rays_.data(); }
+  const Hit* hits() const { return hits_.data(); }
+  SobolSampler* samplers() { return sobol_.data(); }
 
  private:
   std::vector<SobolSampler> sobol_;  // rebuilt in place per sample

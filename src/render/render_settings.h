@@ -54,6 +54,10 @@ struct RenderStats {
   std::uint64_t primary_rays = 0;  // camera rays: width * height * spp
   // Thread-seconds spent inside the primary-ray tracing calls only, summed over threads.
   double primary_seconds = 0.0;
+  // Path tracer: its batches of continuation and shadow rays (one of each per bounce of a
+  // block), and the continuation rays coherent enough to go as packets.
+  std::uint64_t continuation_batches = 0, continuation_rays = 0, continuation_packet_rays = 0;
+  std::uint64_t shadow_batches = 0, shadow_rays = 0;
 };
 
 }  // namespace lancer

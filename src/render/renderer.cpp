@@ -1,6 +1,7 @@
 #include "render/renderer.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <optional>
@@ -9,6 +10,7 @@
 #include <vector>
 
 #include <glm/vec3.hpp>
+#include <tbb/enumerable_thread_specific.h>
 
 #include "render/debug_integrators.h"
 #include "render/lights.h"
@@ -75,14 +77,26 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
     whitted.emplace(scene, accel, *area_lights, settings.max_depth, settings.light_samples);
   const PixelFilter filter =
       settings.filter == PixelFilterType::Gaussian ? PixelFilter::gaussian() : PixelFilter::box();
-  auto shade = [&](PrimaryBlock& primary, int i, std::uint64_t& rays) {
-    const Ray& ray = primary.ray(i);
-    const Hit& hit = primary.hit(i);
-    switch (settings.integrator) {
-      case IntegratorKind::Path: return path->radiance_from_hit(ray, hit, primary.sampler(i), rays);
-      case IntegratorKind::Whitted: return whitted->radiance_from_hit(ray, hit, primary.sampler(i), rays);
-      case IntegratorKind::Ao: return ambient_occlusion(scene, accel, ray, hit, primary.sampler(i), rays);
-      default: return debug_radiance_from_hit(settings.integrator, scene, ray, hit);
+  // Per thread, reused from block to block: the block's camera rays and the path tracer's
+  // scratch, so the render loop allocates nothing once warm.
+  tbb::enumerable_thread_specific<PrimaryBlock> primary_blocks;
+  tbb::enumerable_thread_specific<PathIntegrator::Scratch> path_scratch;
+  // The radiance of every camera ray of a block: the path tracer advances the block's
+  // paths together (PathIntegrator::radiance_block), the others shade one pixel at a time.
+  auto shade_block = [&](PrimaryBlock& primary, glm::vec3* L, std::uint64_t& rays) {
+    const int n = primary.size();
+    if (settings.integrator == IntegratorKind::Path) {
+      path->radiance_block(primary.rays(), primary.hits(), primary.samplers(), n, L, rays, path_scratch.local());
+      return;
+    }
+    for (int i = 0; i < n; ++i) {
+      const Ray& ray = primary.ray(i);
+      const Hit& hit = primary.hit(i);
+      switch (settings.integrator) {
+        case IntegratorKind::Whitted: L[i] = whitted->radiance_from_hit(ray, hit, primary.sampler(i), rays); break;
+        case IntegratorKind::Ao: L[i] = ambient_occlusion(scene, accel, ray, hit, primary.sampler(i), rays); break;
+        default: L[i] = debug_radiance_from_hit(settings.integrator, scene, ray, hit);
+      }
     }
   };
   auto must_stop = [&] {
@@ -101,18 +115,19 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
     std::uint64_t rays = 0;  // per tile, added to the totals once
     std::uint64_t primary_rays = 0;
     Clock::duration primary_time{0};
-    PrimaryBlock primary;
+    PrimaryBlock& primary = primary_blocks.local();
+    std::array<glm::vec3, kBlockPixels> L;
     for (const PixelBlock& block : make_blocks(tile)) {
       if (must_stop()) break;
       const int n = block.pixel_count();
       primary.generate(camera, filter, block, s, settings.seed);
       primary_time += primary.trace(accel, settings.mode);
       primary_rays += static_cast<std::uint64_t>(n);
+      shade_block(primary, L.data(), rays);
       for (int i = 0; i < n; ++i) {
-        const glm::vec3 L = shade(primary, i, rays);
         const std::size_t p = static_cast<std::size_t>(block.y0 + i / block.width()) * settings.width +
                               static_cast<std::size_t>(block.x0 + i % block.width());
-        sum[p] += glm::dvec3(L);
+        sum[p] += glm::dvec3(L[static_cast<std::size_t>(i)]);
         ++count[p];
       }
     }
@@ -150,6 +165,13 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
   stats.pixels_past_min_spp =
       static_cast<std::size_t>(std::count_if(count.begin(), count.end(), [&](std::uint32_t c) { return c > *lo; }));
   stats.rays = total_rays.load();
+  PathBatchStats batches;
+  for (const PathIntegrator::Scratch& scratch : path_scratch) batches += scratch.stats;
+  stats.continuation_batches = batches.continuation_batches;
+  stats.continuation_rays = batches.continuation_rays;
+  stats.continuation_packet_rays = batches.packet_rays;
+  stats.shadow_batches = batches.shadow_batches;
+  stats.shadow_rays = batches.shadow_rays;
   stats.primary_rays = total_primary_rays.load();
   stats.primary_seconds = std::chrono::duration<double>(Clock::duration(total_primary_ticks.load())).count();
   ImageRGB image = current_image();

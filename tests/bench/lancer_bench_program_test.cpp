@@ -12,6 +12,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "program_run.h"
+
 namespace lancer {
 namespace {
 
@@ -23,15 +25,8 @@ constexpr bool kWithEmbree = true;
 constexpr bool kWithEmbree = false;
 #endif
 
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
-
-std::string file_text(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using Result = test::ProgramResult;
+using test::file_text;
 
 std::size_t count(const std::string& text, const std::string& what) {
   std::size_t n = 0;
@@ -48,14 +43,7 @@ class LancerBenchProgram : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir_); }
 
   Result run(const std::string& program, const std::string& args) const {
-    const std::string command =
-        program + " " + args + " >" + (dir_ / "out.txt").string() + " 2>" + (dir_ / "err.txt").string();
-    const int status = std::system(command.c_str());
-    Result r;
-    if (WIFEXITED(status)) r.code = WEXITSTATUS(status);
-    r.out = file_text(dir_ / "out.txt");
-    r.err = file_text(dir_ / "err.txt");
-    return r;
+    return test::run_program(program + " " + args, dir_);
   }
   Result bench(const std::string& args) const { return run(LANCER_BENCH_BINARY, args); }
 

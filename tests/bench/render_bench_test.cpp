@@ -13,6 +13,7 @@
 #include <string>
 
 #include "accel/kd_tree.h"
+#include "program_run.h"
 #include "ray_recorder.h"
 #include "render/renderer.h"
 #include "scene/load_scene.h"
@@ -81,15 +82,8 @@ TEST(RayRecorder, StopsRecordingAtItsLimit) {
   EXPECT_GT(stats.rays, 1000u);
 }
 
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
-
-std::string file_text(const fs::path& file) {
-  std::ifstream in(file, std::ios::binary);
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
+using Result = test::ProgramResult;
+using test::file_text;
 
 class RenderBenchProgram : public ::testing::Test {
  protected:
@@ -100,14 +94,7 @@ class RenderBenchProgram : public ::testing::Test {
   void TearDown() override { fs::remove_all(dir_); }
 
   Result bench(const std::string& args) const {
-    const std::string command = std::string(LANCER_BINARY) + " bench --render " + args + " >" +
-                                (dir_ / "out.txt").string() + " 2>" + (dir_ / "err.txt").string();
-    const int status = std::system(command.c_str());
-    Result r;
-    if (WIFEXITED(status)) r.code = WEXITSTATUS(status);
-    r.out = file_text(dir_ / "out.txt");
-    r.err = file_text(dir_ / "err.txt");
-    return r;
+    return test::run_program(std::string(LANCER_BINARY) + " bench --render " + args, dir_);
   }
 
   std::string tiny() const {

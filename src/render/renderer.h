@@ -24,9 +24,11 @@ using ProgressCallback = std::function<void(std::size_t tiles_done, std::size_t 
 // settings.threads or settings.tile_size. `control` may end the render early (stop flag,
 // time limit: the image then averages what each pixel got) and asks for checkpoints.
 // `accel` must have been built over scene.triangles. Throws std::invalid_argument on
-// invalid settings. Fills stats: seconds, rays (every ray traced), primary_rays and
-// primary_seconds. Camera rays are traced in blocks of at most 8x8 pixels inside each tile,
-// as packets or one by one as settings.mode says; the image is the same either way.
+// invalid settings. Fills stats: seconds, rays (every ray traced), primary_rays,
+// primary_seconds and, for the path tracer, its batch counts. Camera rays are traced in
+// blocks of at most 8x8 pixels inside each tile, as packets or one by one as settings.mode
+// says; the image is the same either way. The path tracer then advances each block's paths
+// together (PathIntegrator::radiance_block); the other integrators shade pixel by pixel.
 ImageRGB render_image(const Scene& scene, const Accelerator& accel, const PinholeCamera& camera,
                       const RenderSettings& settings, RenderStats& stats, const ProgressCallback& progress = {},
                       const RenderControl& control = {});

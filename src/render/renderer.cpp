@@ -162,8 +162,9 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
   const auto [lo, hi] = std::minmax_element(count.begin(), count.end());
   stats.min_spp = *lo;
   stats.max_spp = *hi;
+  const std::uint32_t least = *lo;  // (clang 14 cannot capture a structured binding)
   stats.pixels_past_min_spp =
-      static_cast<std::size_t>(std::count_if(count.begin(), count.end(), [&](std::uint32_t c) { return c > *lo; }));
+      static_cast<std::size_t>(std::count_if(count.begin(), count.end(), [least](std::uint32_t c) { return c > least; }));
   stats.rays = total_rays.load();
   PathBatchStats batches;
   for (const PathIntegrator::Scratch& scratch : path_scratch) batches += scratch.stats;

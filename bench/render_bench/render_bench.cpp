@@ -88,7 +88,7 @@ struct SceneResult {
   std::size_t triangles = 0;
   double build_s = 0.0, wall_s = 0.0, cpu_s = 0.0, mrays_per_s = 0.0, paths_per_s = 0.0;
   double rays_per_path = 0.0;
-  RenderStats batches;  // the path tracer's batch counts (of the last timed render)
+  PathBatchStats batches;  // the path tracer's batch counts (of the last timed render)
   double traversal_share = 0.0;  // replayed traversal seconds / render CPU seconds
   ReplayTime replay;
   bool replay_truncated = false;
@@ -169,7 +169,7 @@ SceneResult measure(const RenderBenchOptions& o, const SuiteScene& entry, bool w
   r.paths_per_s = paths / r.wall_s;
   r.mrays_per_s = static_cast<double>(stats.rays) / r.wall_s * 1e-6;
   r.rays_per_path = static_cast<double>(stats.rays) / paths;
-  r.batches = stats;
+  r.batches = stats.path_batches;
 
   // The traversal share: the tracer calls of trace_passes passes, replayed alone.
   {
@@ -251,10 +251,10 @@ void write_table(const RenderBenchOptions& o, const std::vector<SceneResult>& re
   out << "\n| scene | continuation rays per batch | as packets | shadow rays per batch |\n|---|--:|--:|--:|\n";
   for (const SceneResult& r : results) {
     if (!r.failure.empty()) continue;
-    const RenderStats& b = r.batches;
+    const PathBatchStats& b = r.batches;
     auto per = [](std::uint64_t n, std::uint64_t d) { return d > 0 ? static_cast<double>(n) / d : 0.0; };
     out << "| " << r.name << " | " << fixed(per(b.continuation_rays, b.continuation_batches), 1) << " | "
-        << fixed(100.0 * per(b.continuation_packet_rays, b.continuation_rays), 1) << " % | "
+        << fixed(100.0 * per(b.packet_rays, b.continuation_rays), 1) << " % | "
         << fixed(per(b.shadow_rays, b.shadow_batches), 1) << " |\n";
   }
   const bool any_cycles = std::any_of(results.begin(), results.end(),
@@ -298,7 +298,7 @@ void write_json(const RenderBenchOptions& o, const std::vector<SceneResult>& res
     s["traversal_share"] = r.traversal_share;
     s["batches"] = {{"continuation_batches", r.batches.continuation_batches},
                     {"continuation_rays", r.batches.continuation_rays},
-                    {"continuation_packet_rays", r.batches.continuation_packet_rays},
+                    {"continuation_packet_rays", r.batches.packet_rays},
                     {"shadow_batches", r.batches.shadow_batches},
                     {"shadow_rays", r.batches.shadow_rays}};
     if (r.mse_lancer > 0.0) s["mse_lancer"] = r.mse_lancer;

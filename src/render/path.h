@@ -21,22 +21,11 @@
 #include "accel/accelerator.h"
 #include "render/environment.h"
 #include "render/lights.h"
+#include "render/render_settings.h"
 #include "render/sobol_sampler.h"
 #include "scene/scene.h"
 
 namespace lancer {
-
-// How the path tracer's rays went in batches (one batch per bounce of a block), summed.
-struct PathBatchStats {
-  std::uint64_t continuation_batches = 0, continuation_rays = 0;
-  std::uint64_t packet_rays = 0;  // continuation rays traced as packets (coherent batches)
-  std::uint64_t shadow_batches = 0, shadow_rays = 0;
-  PathBatchStats& operator+=(const PathBatchStats& o) {
-    continuation_batches += o.continuation_batches, continuation_rays += o.continuation_rays;
-    packet_rays += o.packet_rays, shadow_batches += o.shadow_batches, shadow_rays += o.shadow_rays;
-    return *this;
-  }
-};
 
 class PathIntegrator {
  public:

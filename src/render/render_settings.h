@@ -43,6 +43,18 @@ struct RenderSettings {
   TraceMode mode = TraceMode::Packet;  // primary rays only; secondary rays are always single
 };
 
+// How the path tracer's rays went in batches (one of each kind per bounce of a block), summed.
+struct PathBatchStats {
+  std::uint64_t continuation_batches = 0, continuation_rays = 0;
+  std::uint64_t packet_rays = 0;  // continuation rays traced as packets (coherent batches)
+  std::uint64_t shadow_batches = 0, shadow_rays = 0;
+  PathBatchStats& operator+=(const PathBatchStats& o) {
+    continuation_batches += o.continuation_batches, continuation_rays += o.continuation_rays;
+    packet_rays += o.packet_rays, shadow_batches += o.shadow_batches, shadow_rays += o.shadow_rays;
+    return *this;
+  }
+};
+
 // What a finished render reports in the summary line.
 struct RenderStats {
   double seconds = 0.0;
@@ -54,10 +66,7 @@ struct RenderStats {
   std::uint64_t primary_rays = 0;  // camera rays: width * height * spp
   // Thread-seconds spent inside the primary-ray tracing calls only, summed over threads.
   double primary_seconds = 0.0;
-  // Path tracer: its batches of continuation and shadow rays (one of each per bounce of a
-  // block), and the continuation rays coherent enough to go as packets.
-  std::uint64_t continuation_batches = 0, continuation_rays = 0, continuation_packet_rays = 0;
-  std::uint64_t shadow_batches = 0, shadow_rays = 0;
+  PathBatchStats path_batches;  // the path tracer's only
 };
 
 }  // namespace lancer

@@ -166,13 +166,8 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
   stats.pixels_past_min_spp =
       static_cast<std::size_t>(std::count_if(count.begin(), count.end(), [least](std::uint32_t c) { return c > least; }));
   stats.rays = total_rays.load();
-  PathBatchStats batches;
-  for (const PathIntegrator::Scratch& scratch : path_scratch) batches += scratch.stats;
-  stats.continuation_batches = batches.continuation_batches;
-  stats.continuation_rays = batches.continuation_rays;
-  stats.continuation_packet_rays = batches.packet_rays;
-  stats.shadow_batches = batches.shadow_batches;
-  stats.shadow_rays = batches.shadow_rays;
+  stats.path_batches = {};
+  for (const PathIntegrator::Scratch& scratch : path_scratch) stats.path_batches += scratch.stats;
   stats.primary_rays = total_primary_rays.load();
   stats.primary_seconds = std::chrono::duration<double>(Clock::duration(total_primary_ticks.load())).count();
   ImageRGB image = current_image();

@@ -62,13 +62,14 @@ TEST(PathBlock, BatchCountsAddUpToTheRaysTraced) {
   const PinholeCamera camera = PinholeCamera::from_desc(scene.cameras.at(0), s.width, s.height);
   RenderStats stats;
   render_image(scene, kd, camera, s, stats);
-  EXPECT_EQ(stats.primary_rays + stats.continuation_rays + stats.shadow_rays, stats.rays);
-  EXPECT_GT(stats.shadow_batches, 0u);
+  const PathBatchStats& b = stats.path_batches;
+  EXPECT_EQ(stats.primary_rays + b.continuation_rays + b.shadow_rays, stats.rays);
+  EXPECT_GT(b.shadow_batches, 0u);
   // One batch per bounce of a block: at most max_depth batches per block and pass.
   const std::uint64_t blocks = 4 * 4 * 2;
-  EXPECT_GE(stats.continuation_batches, blocks);
-  EXPECT_LE(stats.continuation_batches, blocks * static_cast<std::uint64_t>(s.max_depth));
-  EXPECT_LE(stats.continuation_packet_rays, stats.continuation_rays);
+  EXPECT_GE(b.continuation_batches, blocks);
+  EXPECT_LE(b.continuation_batches, blocks * static_cast<std::uint64_t>(s.max_depth));
+  EXPECT_LE(b.packet_rays, b.continuation_rays);
 }
 
 }  // namespace

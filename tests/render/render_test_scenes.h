@@ -6,6 +6,7 @@
 #include <glm/vec3.hpp>
 
 #include "accel/ray.h"
+#include "render/texture.h"
 #include "scene/procedural.h"
 #include "scene/scene.h"
 
@@ -41,6 +42,21 @@ inline Material emissive_material(const glm::vec3& radiance, float strength = 1.
   m.emissive_factor = radiance;
   m.emissive_strength = strength;
   return m;
+}
+
+// A 1x1 RGB image holding `texel` and a nearest-filtered texture of it; returns the
+// texture's index, for a material's TextureRef.
+inline int add_one_texel_texture(Scene& scene, std::uint8_t r, std::uint8_t g, std::uint8_t b) {
+  Image image;
+  image.width = image.height = 1;
+  image.channels = 3;
+  image.pixels = {r, g, b};
+  scene.images.push_back(image);
+  Texture texture;
+  texture.image = static_cast<int>(scene.images.size() - 1);
+  texture.mag_filter = kFilterNearest;
+  scene.textures.push_back(texture);
+  return static_cast<int>(scene.textures.size() - 1);
 }
 
 inline std::uint32_t add_material(Scene& scene, const Material& m) {

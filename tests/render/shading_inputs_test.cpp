@@ -46,17 +46,8 @@ glm::vec2 upside_down(const glm::vec3& p) { return {p.x, p.y}; }
 // tangent on every corner, and a 1x1 normal map holding `texel`.
 Scene normal_mapped_quad(UvMap uv_of, const glm::vec4* tangent, glm::u8vec3 texel, float scale = 1.0f) {
   Scene scene;
-  Image image;
-  image.width = image.height = 1;
-  image.channels = 3;
-  image.pixels = {texel.r, texel.g, texel.b};
-  scene.images.push_back(image);
-  Texture texture;
-  texture.image = 0;
-  texture.mag_filter = kFilterNearest;
-  scene.textures.push_back(texture);
   Material m = test::diffuse_material(glm::vec3(0.5f));
-  m.normal_texture.texture = 0;
+  m.normal_texture.texture = test::add_one_texel_texture(scene, texel.r, texel.g, texel.b);
   m.normal_texture.scale = scale;
   scene.materials.push_back(m);
 

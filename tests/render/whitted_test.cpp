@@ -217,21 +217,13 @@ TEST(Whitted, CountsEveryRay) {
 TEST(Whitted, TexturesApplyAsInThePathTracer) {
   for (const bool emissive : {true, false}) {
     Scene scene;
-    Image image;
-    image.width = image.height = 1;
-    image.channels = 3;
-    image.pixels = {128, 64, 32};  // sRGB
-    scene.images.push_back(image);
-    Texture texture;
-    texture.image = 0;
-    texture.mag_filter = kFilterNearest;
-    scene.textures.push_back(texture);
+    const int texture = test::add_one_texel_texture(scene, 128, 64, 32);  // sRGB
     Material m = test::diffuse_material(glm::vec3(1.0f));
     if (emissive) {
       m.emissive_factor = glm::vec3(2.0f);
-      m.emissive_texture.texture = 0;
+      m.emissive_texture.texture = texture;
     } else {
-      m.base_color_texture.texture = 0;
+      m.base_color_texture.texture = texture;
     }
     scene.materials.push_back(m);
     const glm::vec3 a(0, 0, 0), b(1, 0, 0), c(1, 1, 0), d(0, 1, 0);

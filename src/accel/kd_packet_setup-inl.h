@@ -83,7 +83,7 @@ SetupMasks setup_vectors(const KdTreeView& tree, const Ray* rays, int count, Pac
     for (int k = 0; k < 8; ++k) raw[k][i] = 0.0f;
 
   const Lanes<N> w;
-  const float extent = kd_max_extent_up(tree.bounds);
+  const float extent = tree.max_extent_up;
   const vfloat<N> E(extent), E2(extent * extent), zero(0.0f), one(1.0f);
   const vfloat<N> finite_max(3.40282347e38f), rel(static_cast<float>(kKdRelativeSlack));
   const vfloat<N> lo[3] = {vfloat<N>(tree.bounds.lo.x), vfloat<N>(tree.bounds.lo.y), vfloat<N>(tree.bounds.lo.z)};

@@ -54,7 +54,7 @@ bool kd_setup_ray_float(const KdTreeView& tree, const Ray& ray, KdRaySetup& s) {
   const float rel = static_cast<float>(kKdRelativeSlack);
   const float tnear = ray.tnear, tfar = ray.tfar;
   if (!(std::fabs(tnear) <= kFiniteMax) || !(tfar >= -kFiniteMax)) return false;
-  const float extent = kd_max_extent_up(tree.bounds);
+  const float extent = tree.max_extent_up;
   float max_dir = 0.0f, reach_max = 0.0f, reach[3], inv[3];
   for (int a = 0; a < 3; ++a) {
     const float org = ray.org[a], ad = std::fabs(ray.dir[a]);
@@ -106,7 +106,8 @@ KdTreeView view(const KdTree& tree) {
           tree.leaf_prims().data(),
           static_cast<std::uint32_t>(tree.leaf_prims().size()),
           static_cast<std::uint32_t>(tree.block_width()),
-          tree.bounds()};
+          tree.bounds(),
+          tree.max_extent_up()};
 }
 
 // Sets up the ray and clips [tnear, tfar] to the scene box (both widened by the slack),

@@ -25,6 +25,7 @@ struct KdTreeView {
   std::uint32_t slot_count;
   std::uint32_t block_width;
   Bounds3 bounds;
+  float max_extent_up;  // kd_max_extent_up(bounds), made once per tree: every ray's setup reads it
 };
 
 KdTreeView view(const KdTree& tree);

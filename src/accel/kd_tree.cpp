@@ -6,6 +6,7 @@
 #include <string>
 
 #include "accel/kd_traverse.h"
+#include "accel/kd_traverse_setup.h"
 
 namespace lancer {
 
@@ -31,6 +32,7 @@ KdTree::KdTree(const TriangleSoA& tris, const KdBuildOptions& options, Isa isa)
   const auto start = std::chrono::steady_clock::now();
   KdBuildOutput built = build_kd_tree(tris, options_);
   bounds_ = built.bounds;
+  max_extent_up_ = kd_max_extent_up(bounds_);
   depth_bound_ = built.depth_bound;
   reference_budget_ = built.reference_budget;
   references_ = built.prims.size();

@@ -50,6 +50,8 @@ class KdTree final : public Accelerator {
   glm::vec3 slot_vertex(std::uint32_t slot, int k) const;
   Isa isa() const { return kernels_.isa; }
   const Bounds3& bounds() const { return bounds_; }
+  // The largest extent of bounds(), rounded up to a float (kd_traverse_setup.h).
+  float max_extent_up() const { return max_extent_up_; }
   // The options the tree was built with, an automatic intersection cost filled in.
   const KdBuildOptions& options() const { return options_; }
   std::size_t triangle_count() const { return triangle_count_; }
@@ -63,6 +65,7 @@ class KdTree final : public Accelerator {
 
   KdBuildOptions options_;
   Bounds3 bounds_;
+  float max_extent_up_ = 0.0f;
   std::vector<KdNode> nodes_;
   std::vector<std::uint32_t> leaf_prims_;
   KdKernels kernels_;

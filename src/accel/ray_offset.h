@@ -200,7 +200,8 @@ class SurfaceOffset {
     const glm::dvec3 products(std::fabs(e1.y * e2.z) + std::fabs(e1.z * e2.y),
                               std::fabs(e1.z * e2.x) + std::fabs(e1.x * e2.z),
                               std::fabs(e1.x * e2.y) + std::fabs(e1.y * e2.x));
-    normal_error_ = (0x1p-51 * inv_len) * products + 0x1p-50 * glm::abs(normal_);
+    const glm::dvec3 normal_error = (0x1p-51 * inv_len) * products + 0x1p-50 * glm::abs(normal_);
+    height_error_weights_ = normal_error + 0x1p-50 * glm::abs(normal_);
     const glm::dvec3 rel = glm::dvec3(p) - corner_;
     p_height_ = glm::dot(rel, normal_);
     p_height_error_ = height_error(rel);
@@ -272,14 +273,12 @@ class SurfaceOffset {
   }
 
   // The error of a height computed as dot(rel, normal) in double (rel exact or nearly).
-  double height_error(const glm::dvec3& rel) const {
-    const glm::dvec3 a = glm::abs(rel);
-    return glm::dot(a, normal_error_ + 0x1p-50 * glm::abs(normal_));
-  }
+  // The weights are the normal's error plus the dot product's own roundings (2^-50 of each term).
+  double height_error(const glm::dvec3& rel) const { return glm::dot(glm::abs(rel), height_error_weights_); }
 
   TriangleCorners tri_;
   glm::vec3 p_, n_;
-  glm::dvec3 corner_, normal_{0.0}, normal_error_{0.0};
+  glm::dvec3 corner_, normal_{0.0}, height_error_weights_{0.0};
   double p_height_ = 0.0, p_height_error_ = 0.0, extent_ = 0.0, o_rounding_ = 0.0;
   bool valid_ = false;
 };

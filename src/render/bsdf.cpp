@@ -105,7 +105,9 @@ bool Bsdf::is_delta_only() const {
 // The colour that multiplies specular_brdf: metal's conductor_fresnel and the dielectric's
 // specular * fr, mixed by metallic (spec B.2, KHR_materials_specular).
 glm::vec3 Bsdf::specular_tint(float cos_wo_h, const glm::vec3& fr) const {
-  return metallic_ * schlick_fresnel(base_color_, cos_wo_h) + (1.0f - metallic_) * specular_ * fr;
+  const glm::vec3 dielectric = (1.0f - metallic_) * specular_ * fr;
+  // No metal: skipping its (finite) term adds exactly 0.
+  return metallic_ > 0.0f ? metallic_ * schlick_fresnel(base_color_, cos_wo_h) + dielectric : dielectric;
 }
 
 // Weight of the dielectric's base (diffuse + transmission): (1 - metallic)(1 - specular max(fr)).
@@ -113,15 +115,22 @@ float Bsdf::base_weight(const glm::vec3& fr) const {
   return (1.0f - metallic_) * (1.0f - specular_ * max_component(fr));
 }
 
-bool Bsdf::to_oriented_local(const glm::vec3& wo, const glm::vec3& wi, glm::vec3& lo, glm::vec3& li) const {
-  lo = frame_.to_local(wo);
-  li = frame_.to_local(wi);
-  if (!(lo.z != 0.0f)) return false;  // in the tangent plane, or NaN
-  if (lo.z < 0.0f) {
-    lo = mirror_z(lo);
-    li = mirror_z(li);
-  }
-  return true;
+Bsdf::Outgoing Bsdf::outgoing(const glm::vec3& wo) const {
+  Outgoing out;
+  out.wo = wo;
+  out.lo = frame_.to_local(wo);
+  if (!(out.lo.z != 0.0f)) return out;  // in the tangent plane, or NaN
+  out.valid = true;
+  out.flipped = out.lo.z < 0.0f;
+  if (out.flipped) out.lo = mirror_z(out.lo);
+  if (!ggx_.smooth()) out.lambda_o = ggx_.lambda(out.lo);
+  out.lobes = choose_lobes(out.lo);
+  return out;
+}
+
+glm::vec3 Bsdf::to_oriented_local(const Outgoing& out, const glm::vec3& wi) const {
+  const glm::vec3 li = frame_.to_local(wi);
+  return out.flipped ? mirror_z(li) : li;
 }
 
 Bsdf::InterfaceSplit Bsdf::interface_split(const glm::vec3& wo, const glm::vec3& m) const {
@@ -158,7 +167,12 @@ Bsdf::LobeChoice Bsdf::choose_lobes(const glm::vec3& wo) const {
 
 // f * |cos(wi)| and the sampling density together: the two share the half vector, its
 // Fresnel factor and D. `lobes` is only read for the density.
-BsdfEval Bsdf::eval_local(const glm::vec3& wo, const glm::vec3& wi, const LobeChoice& lobes) const {
+BsdfEval Bsdf::eval_local(const Outgoing& out, const glm::vec3& wi) const {
+  const glm::vec3& wo = out.lo;
+  const LobeChoice& lobes = out.lobes;
+  // Smith G1(wo) and G2(wo, w) with Lambda(wo) from `out` (microfacet.h's formulas).
+  const auto g1_o = [&] { return 1.0f / (1.0f + out.lambda_o); };
+  const auto g2 = [&](const glm::vec3& w) { return 1.0f / (1.0f + out.lambda_o + ggx_.lambda(w)); };
   BsdfEval e;
   if (wi.z > 0.0f) {
     const bool rough_reflection = has_reflection_ && !ggx_.smooth();
@@ -169,13 +183,16 @@ BsdfEval Bsdf::eval_local(const glm::vec3& wo, const glm::vec3& wi, const LobeCh
     if (rough_reflection) {
       const float d = ggx_.d(h);
       // specular_brdf * cos(wi) = D G2 / (4 |n.wo|)
-      e.f += specular_tint(cos_wo_h, fr) * (d * ggx_.g2(wo, wi) / (4.0f * wo.z));
+      const glm::vec3 tint = specular_tint(cos_wo_h, fr);
+      e.f += tint * (d * g2(wi) / (4.0f * wo.z));
       if (lobes.interface > 0.0f) {
         // D_wo(h) / (4 wo.h) with D_wo(h) = G1(wo) (wo.h) D(h) / wo.z (Heitz 2018), times the
-        // probability of reflecting rather than refracting.
-        const float reflect = split_at_normal_ ? interface_split(wo, glm::vec3(0.0f, 0.0f, 1.0f)).reflect
-                                               : interface_split(wo, h, cos_wo_h, fr).reflect;
-        e.pdf += lobes.interface * reflect * ggx_.g1(wo) * d / (4.0f * wo.z);
+        // probability of reflecting rather than refracting: without transmission,
+        // interface_split's r / (r + 0), which is 1 for any r > 0.
+        const float reflect = split_at_normal_     ? interface_split(wo, glm::vec3(0.0f, 0.0f, 1.0f)).reflect
+                              : !has_transmission_ ? (average(tint) > 0.0f ? 1.0f : 0.0f)
+                                                   : interface_split(wo, h, cos_wo_h, fr).reflect;
+        e.pdf += lobes.interface * reflect * g1_o() * d / (4.0f * wo.z);
       }
     }
     if (has_diffuse_) {
@@ -192,10 +209,10 @@ BsdfEval Bsdf::eval_local(const glm::vec3& wo, const glm::vec3& wi, const LobeCh
     const float cos_wo_h = glm::dot(wo, h);
     const glm::vec3 fr = fresnel_.reflectance(cos_wo_h, fresnel_eta_);
     const float d = ggx_.d(h);
-    const float btdf_cos = d * ggx_.g2(wo, wr) / (4.0f * wo.z);
+    const float btdf_cos = d * g2(wr) / (4.0f * wo.z);
     e.f += (base_weight(fr) * transmission_ * btdf_cos) * base_color_;
     if (lobes.interface > 0.0f)
-      e.pdf += lobes.interface * interface_split(wo, h, cos_wo_h, fr).refract * ggx_.g1(wo) * d / (4.0f * wo.z);
+      e.pdf += lobes.interface * interface_split(wo, h, cos_wo_h, fr).refract * g1_o() * d / (4.0f * wo.z);
   } else if (wi.z < 0.0f && has_transmission_ && !smooth_transmission_) {
     const auto h = refraction_half_vector(wo, wi, eta_);
     if (!h) return e;
@@ -204,7 +221,7 @@ BsdfEval Bsdf::eval_local(const glm::vec3& wo, const glm::vec3& wi, const LobeCh
     const float denom = cos_o + eta_ * cos_i;
     // Walter et al. 2007, eq. 21 without F, times |cos(wi)|.
     const float d = ggx_.d(*h);
-    const float btdf_cos = eta_ * eta_ * cos_o * std::abs(cos_i) * d * ggx_.g2(wo, wi) / (wo.z * denom * denom);
+    const float btdf_cos = eta_ * eta_ * cos_o * std::abs(cos_i) * d * g2(wi) / (wo.z * denom * denom);
     const glm::vec3 fr = fresnel_.reflectance(cos_o, fresnel_eta_);
     e.f += (base_weight(fr) * transmission_ * btdf_cos) * base_color_;
     if (lobes.interface > 0.0f) {
@@ -216,22 +233,26 @@ BsdfEval Bsdf::eval_local(const glm::vec3& wo, const glm::vec3& wi, const LobeCh
   return e;
 }
 
-BsdfEval Bsdf::evaluate(const glm::vec3& wo, const glm::vec3& wi) const {
-  glm::vec3 lo, li;
-  if (!to_oriented_local(wo, wi, lo, li)) return {};
-  return eval_local(lo, li, choose_lobes(lo));
+BsdfEval Bsdf::evaluate(const Outgoing& out, const glm::vec3& wi) const {
+  if (!out.valid) return {};
+  return eval_local(out, to_oriented_local(out, wi));
 }
+
+BsdfEval Bsdf::evaluate(const glm::vec3& wo, const glm::vec3& wi) const { return evaluate(outgoing(wo), wi); }
 
 glm::vec3 Bsdf::eval(const glm::vec3& wo, const glm::vec3& wi) const { return evaluate(wo, wi).f; }
 
 float Bsdf::pdf(const glm::vec3& wo, const glm::vec3& wi) const { return evaluate(wo, wi).pdf; }
 
 std::optional<BsdfSample> Bsdf::sample(const glm::vec3& wo, float u_lobe, glm::vec2 u) const {
-  glm::vec3 lo = frame_.to_local(wo);
-  if (!(lo.z != 0.0f)) return std::nullopt;
-  const bool flipped = lo.z < 0.0f;
-  if (flipped) lo = mirror_z(lo);
-  const LobeChoice lobes = choose_lobes(lo);
+  return sample(outgoing(wo), u_lobe, u);
+}
+
+std::optional<BsdfSample> Bsdf::sample(const Outgoing& out, float u_lobe, glm::vec2 u) const {
+  if (!out.valid) return std::nullopt;
+  const glm::vec3& lo = out.lo;
+  const bool flipped = out.flipped;
+  const LobeChoice& lobes = out.lobes;
   const auto to_world = [&](const glm::vec3& wi_local) {
     return glm::normalize(frame_.to_world(flipped ? mirror_z(wi_local) : wi_local));
   };
@@ -289,9 +310,8 @@ std::optional<BsdfSample> Bsdf::sample(const glm::vec3& wo, float u_lobe, glm::v
   // world space, so that pdf(wo, sample.wi) returns exactly sample.pdf. (At grazing angles
   // the round trip moves a narrow lobe's half vector by a visible fraction of alpha.)
   const glm::vec3 wi_world = to_world(wi);
-  glm::vec3 lo_again, li;
-  if (!to_oriented_local(wo, wi_world, lo_again, li)) return std::nullopt;
-  const BsdfEval e = eval_local(lo_again, li, lobes);
+  const glm::vec3 li = to_oriented_local(out, wi_world);
+  const BsdfEval e = eval_local(out, li);
   if (!(e.pdf > 0.0f)) return std::nullopt;
   return BsdfSample{wi_world, e.f / e.pdf, e.pdf, false, li.z < 0.0f};
 }

@@ -137,7 +137,27 @@ struct BsdfEval {
 };
 
 class Bsdf {
+ private:
+  // Probabilities of the two sampling lobes for a given wo (local, wo.z > 0): the interface
+  // (microfacet reflection and refraction) and the diffuse base. They sum to 1, or both are
+  // 0 when nothing scatters.
+  struct LobeChoice {
+    float interface = 0.0f, diffuse = 0.0f;
+  };
+
  public:
+  // What depends on wo alone, computed once per shading point for all of its light
+  // samples' evaluations and its BSDF sample (the overloads below taking one give exactly
+  // the results of those taking wo).
+  struct Outgoing {
+    glm::vec3 wo{0.0f};  // world space, unit
+    glm::vec3 lo{0.0f};  // local, mirrored so that lo.z > 0
+    bool flipped = false;  // wo was below the shading frame's tangent plane
+    bool valid = false;    // false when wo lies in the tangent plane (or is NaN): nothing scatters
+    float lambda_o = 0.0f;  // Smith Lambda(lo), for rough lobes
+    LobeChoice lobes;
+  };
+
   // wo-independent setup. `entering`: true when the ray arrives from outside (the side the
   // outward normal points to); ior ratios flip otherwise. Either pass the outward shading
   // normal and entering = (wo on its side), or the normal flipped towards the ray and
@@ -153,6 +173,10 @@ class Bsdf {
   // nullopt: absorbed, or the drawn direction left the lobe's domain (weight 0).
   std::optional<BsdfSample> sample(const glm::vec3& wo, float u_lobe, glm::vec2 u) const;
 
+  Outgoing outgoing(const glm::vec3& wo) const;
+  BsdfEval evaluate(const Outgoing& out, const glm::vec3& wi) const;
+  std::optional<BsdfSample> sample(const Outgoing& out, float u_lobe, glm::vec2 u) const;
+
   bool has_delta() const;
   bool is_delta_only() const;
   bool entering() const { return entering_; }
@@ -162,12 +186,6 @@ class Bsdf {
   bool thin_walled() const { return thin_walled_; }
 
  private:
-  // Probabilities of the two sampling lobes for a given wo (local, wo.z > 0): the interface
-  // (microfacet reflection and refraction) and the diffuse base. They sum to 1, or both are
-  // 0 when nothing scatters.
-  struct LobeChoice {
-    float interface = 0.0f, diffuse = 0.0f;
-  };
   // How the interface lobe splits between reflection and refraction at facet normal m.
   struct InterfaceSplit {
     float reflect = 0.0f, refract = 0.0f;
@@ -178,9 +196,10 @@ class Bsdf {
   InterfaceSplit interface_split(const glm::vec3& wo, const glm::vec3& m, float cos_wo_m, const glm::vec3& fr) const;
   glm::vec3 specular_tint(float cos_wo_h, const glm::vec3& fr) const;
   float base_weight(const glm::vec3& fr) const;
-  BsdfEval eval_local(const glm::vec3& wo, const glm::vec3& wi, const LobeChoice& lobes) const;
-  // wo, wi in the local frame, mirrored so that wo.z > 0; false when wo is in the tangent plane.
-  bool to_oriented_local(const glm::vec3& wo, const glm::vec3& wi, glm::vec3& lo, glm::vec3& li) const;
+  // wo = out.lo, wi local and mirrored with it.
+  BsdfEval eval_local(const Outgoing& out, const glm::vec3& wi) const;
+  // wi in the local frame, mirrored as out.lo was.
+  glm::vec3 to_oriented_local(const Outgoing& out, const glm::vec3& wi) const;
 
   ShadingFrame frame_;
   glm::vec3 base_color_;

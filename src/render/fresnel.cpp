@@ -7,16 +7,6 @@
 
 namespace lancer {
 
-float schlick_weight(float cos_theta) {
-  const float m = std::clamp(1.0f - std::abs(cos_theta), 0.0f, 1.0f);
-  const float m2 = m * m;
-  return m2 * m2 * m;
-}
-
-glm::vec3 schlick_fresnel(const glm::vec3& f0, float cos_theta) {
-  return f0 + (glm::vec3(1.0f) - f0) * schlick_weight(cos_theta);
-}
-
 float exact_dielectric_fresnel(float cos_i, float eta) {
   cos_i = std::clamp(cos_i, 0.0f, 1.0f);
   // Snell: sin_t = sin_i / eta.
@@ -49,16 +39,8 @@ DielectricFresnel::DielectricFresnel(float ior, const glm::vec3& specular_color,
       // The exact shape needs F0 < 1 to be rescaled; F0 = 1 reflects everything either way.
       form_(f0_ior_ < 1.0f ? form : Form::Schlick) {}
 
-glm::vec3 DielectricFresnel::reflectance(float cos_i, float eta) const {
-  float w;
-  if (form_ == Form::Schlick) {
-    w = schlick_weight(cos_i);
-  } else {
-    w = (exact_dielectric_fresnel(cos_i, eta) - f0_ior_) / (1.0f - f0_ior_);
-  }
-  // The exact curve dips a hair below F0 near Brewster's angle for large indices; clamping fr
-  // (not w) keeps fr = F exactly when specular_color = 1.
-  return glm::clamp(f0_ + (glm::vec3(1.0f) - f0_) * w, glm::vec3(0.0f), glm::vec3(1.0f));
+float DielectricFresnel::exact_weight(float cos_i, float eta) const {
+  return (exact_dielectric_fresnel(cos_i, eta) - f0_ior_) / (1.0f - f0_ior_);
 }
 
 }  // namespace lancer

@@ -9,21 +9,6 @@
 
 namespace lancer {
 
-float GgxDistribution::d(const glm::vec3& m) const {
-  if (m.z <= 0.0f) return 0.0f;
-  const float a2 = alpha_ * alpha_;
-  const float k = a2 * m.z * m.z + (m.x * m.x + m.y * m.y);
-  return a2 / (std::numbers::pi_v<float> * k * k);
-}
-
-float GgxDistribution::lambda(const glm::vec3& w) const {
-  // (sqrt(1 + a^2 tan^2) - 1) / 2 with tan^2 = (x^2 + y^2) / z^2, multiplied through by |z|.
-  const float z = std::abs(w.z);
-  if (z == 0.0f) return std::numeric_limits<float>::infinity();
-  const float root = std::sqrt(z * z + alpha_ * alpha_ * (w.x * w.x + w.y * w.y));
-  return 0.5f * (root / z - 1.0f);
-}
-
 float GgxDistribution::visible_pdf(const glm::vec3& wo, const glm::vec3& m) const {
   const float wo_m = glm::dot(wo, m);
   if (wo_m <= 0.0f || wo.z <= 0.0f) return 0.0f;

@@ -17,6 +17,9 @@
 //   drawn exactly by Heitz 2018, "Sampling the GGX Distribution of Visible Normals", JCGT 7(4).
 #pragma once
 
+#include <cmath>
+#include <limits>
+#include <numbers>
 #include <optional>
 
 #include <glm/vec2.hpp>
@@ -36,10 +39,22 @@ class GgxDistribution {
   float alpha() const { return alpha_; }
   bool smooth() const { return alpha_ < kSmoothAlpha; }
 
-  // D(m) for a unit microfacet normal m; 0 below the macro surface.
-  float d(const glm::vec3& m) const;
+  // D(m) for a unit microfacet normal m; 0 below the macro surface. (Inline, as lambda:
+  // several calls per shading point.)
+  float d(const glm::vec3& m) const {
+    if (m.z <= 0.0f) return 0.0f;
+    const float a2 = alpha_ * alpha_;
+    const float k = a2 * m.z * m.z + (m.x * m.x + m.y * m.y);
+    return a2 / (std::numbers::pi_v<float> * k * k);
+  }
   // Smith Lambda(w); +infinity for w in the tangent plane.
-  float lambda(const glm::vec3& w) const;
+  float lambda(const glm::vec3& w) const {
+    // (sqrt(1 + a^2 tan^2) - 1) / 2 with tan^2 = (x^2 + y^2) / z^2, multiplied through by |z|.
+    const float z = std::abs(w.z);
+    if (z == 0.0f) return std::numeric_limits<float>::infinity();
+    const float root = std::sqrt(z * z + alpha_ * alpha_ * (w.x * w.x + w.y * w.y));
+    return 0.5f * (root / z - 1.0f);
+  }
   float g1(const glm::vec3& w) const { return 1.0f / (1.0f + lambda(w)); }
   // Height-correlated masking-shadowing of the pair (either side of the surface).
   float g2(const glm::vec3& wo, const glm::vec3& wi) const { return 1.0f / (1.0f + lambda(wo) + lambda(wi)); }

@@ -186,7 +186,7 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
   const BsdfInputs inputs{si.base_color, si.metallic,       si.roughness,   si.ior,
                           si.specular,   si.specular_color, si.transmission, si.thin_walled};
   const Bsdf bsdf(inputs, ShadingFrame::from_normal_tangent(si.ns, si.tangent), si.front_face);
-  const glm::vec3 wo = -dir;
+  const Bsdf::Outgoing wo = bsdf.outgoing(-dir);
   auto queue_shadow = [&](const Ray& shadow, const glm::vec3& contribution) {
     ++ray_count;
     scratch.shadows.push_back({shadow, contribution, index});
@@ -233,7 +233,7 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
     for (const PunctualLight& light : scene_.lights) {
       const PunctualIncidence in = illuminate(light, si.p);
       if (is_black(in.irradiance) || !sides_agree(si, in.wi)) continue;
-      const glm::vec3 f = bsdf.eval(wo, in.wi);
+      const glm::vec3 f = bsdf.evaluate(wo, in.wi).f;
       if (is_black(f)) continue;
       queue_shadow(shadow_ray_to_punctual(leave, light, in.wi), beta * f * in.irradiance);
     }

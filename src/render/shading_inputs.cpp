@@ -72,8 +72,9 @@ ShadingInputs evaluate_shading(const Scene& scene, const Ray& ray, const Hit& hi
   if (flags & kHasTexcoords) si.uv0 = interpolate(scene.texcoords, tri, w, u, v);
   if ((flags & kHasTexcoords1) && !scene.texcoords1.empty()) si.uv1 = interpolate(scene.texcoords1, tri, w, u, v);
 
+  // Most factors have no texture: answer those here, without the call.
   auto lookup = [&](const TextureRef& ref, TexelEncoding encoding) {
-    return sample_texture(scene, ref, si.uv0, si.uv1, encoding);
+    return ref.present() ? sample_texture(scene, ref, si.uv0, si.uv1, encoding) : glm::vec4(1.0f);
   };
   const glm::vec4 base = m.base_color * lookup(m.base_color_texture, TexelEncoding::Srgb);
   si.base_color = glm::vec3(base);
@@ -96,7 +97,7 @@ ShadingInputs evaluate_shading(const Scene& scene, const Ray& ray, const Hit& hi
   glm::vec3 n = sp.stored_shading_normal();
   glm::vec4 frame = normal_map_frame(scene, tri, flags, w, u, v, n, m.normal_texture);
   if (frame.w == 0.0f) frame = glm::vec4(any_tangent(n), 1.0f);
-  if (texture_image(scene, m.normal_texture)) {
+  if (m.normal_texture.present() && texture_image(scene, m.normal_texture)) {
     const glm::vec3 texel(lookup(m.normal_texture, TexelEncoding::Linear));
     n = perturb_normal(n, frame, texel, m.normal_texture.scale);
   }

@@ -22,13 +22,22 @@ bool RecordingAccelerator::occluded(const Ray& ray) const {
   return inner_.occluded(ray);
 }
 
-void RecordingAccelerator::intersect_packet(const Ray* rays, Hit* hits, int count) const {
+void RecordingAccelerator::record_packet(const Ray* rays, int count, RecordedCall::Kind kind) const {
   if (count > 0 && room(static_cast<std::size_t>(count))) {
     std::vector<RecordedCall>& log = logs_.local();
-    log.push_back({rays[0], RecordedCall::Kind::Packet, count});
+    log.push_back({rays[0], kind, count});
     for (int i = 1; i < count; ++i) log.push_back({rays[i], RecordedCall::Kind::PacketRay, 1});
   }
+}
+
+void RecordingAccelerator::intersect_packet(const Ray* rays, Hit* hits, int count) const {
+  record_packet(rays, count, RecordedCall::Kind::Packet);
   inner_.intersect_packet(rays, hits, count);
+}
+
+void RecordingAccelerator::occluded_packet(const Ray* rays, bool* occluded, int count) const {
+  record_packet(rays, count, RecordedCall::Kind::AnyPacket);
+  inner_.occluded_packet(rays, occluded, count);
 }
 
 std::vector<RecordedCall> RecordingAccelerator::calls() const {
@@ -46,18 +55,28 @@ double seconds_since(Clock::time_point start) { return std::chrono::duration<dou
 // The calls split by kind, each kind in the order it was traced: the replay times one
 // loop per kind, so the clock is read three times, not once per call.
 struct SplitCalls {
-  std::vector<Ray> closest, any, packet_rays;
-  std::vector<int> packet_sizes;
+  std::vector<Ray> closest, any, packet_rays, any_packet_rays;
+  std::vector<int> packet_sizes, any_packet_sizes;
 };
 
 SplitCalls split(const std::vector<RecordedCall>& calls) {
   SplitCalls s;
+  std::vector<Ray>* packet = &s.packet_rays;  // the packet the PacketRay records continue
   for (const RecordedCall& c : calls) {
     switch (c.kind) {
       case RecordedCall::Kind::Closest: s.closest.push_back(c.ray); break;
       case RecordedCall::Kind::Any: s.any.push_back(c.ray); break;
-      case RecordedCall::Kind::Packet: s.packet_sizes.push_back(c.count); [[fallthrough]];
-      case RecordedCall::Kind::PacketRay: s.packet_rays.push_back(c.ray); break;
+      case RecordedCall::Kind::Packet:
+        s.packet_sizes.push_back(c.count);
+        packet = &s.packet_rays;
+        packet->push_back(c.ray);
+        break;
+      case RecordedCall::Kind::AnyPacket:
+        s.any_packet_sizes.push_back(c.count);
+        packet = &s.any_packet_rays;
+        packet->push_back(c.ray);
+        break;
+      case RecordedCall::Kind::PacketRay: packet->push_back(c.ray); break;
     }
   }
   return s;
@@ -77,6 +96,21 @@ ReplayTime replay_once(const Accelerator& accel, const SplitCalls& calls) {
   }
   t.packet_s = seconds_since(start);
   start = Clock::now();
+  bool blocked[64];
+  first = 0;
+  for (const int n : calls.any_packet_sizes) {
+    for (int i = 0; i < n; i += 64) {
+      const int m = std::min(64, n - i);
+      accel.occluded_packet(&calls.any_packet_rays[first + static_cast<std::size_t>(i)], blocked, m);
+      sink += blocked[0] ? 1 : 0;
+    }
+    first += static_cast<std::size_t>(n);
+  }
+  t.any_packet_s = seconds_since(start);
+  start = Clock::now();
+  for (const Ray& r : calls.any_packet_rays) sink += accel.occluded(r) ? 1 : 0;
+  t.any_packet_as_single_s = seconds_since(start);
+  start = Clock::now();
   for (const Ray& r : calls.closest) sink += accel.intersect(r).prim;
   t.closest_s = seconds_since(start);
   start = Clock::now();
@@ -85,6 +119,7 @@ ReplayTime replay_once(const Accelerator& accel, const SplitCalls& calls) {
   t.packet_rays = calls.packet_rays.size();
   t.closest = calls.closest.size();
   t.any = calls.any.size();
+  t.any_packet_rays = calls.any_packet_rays.size();
   t.checksum = sink;
   return t;
 }

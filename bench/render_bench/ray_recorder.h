@@ -21,10 +21,10 @@
 
 namespace lancer::bench {
 
-// One recorded call: a closest-hit or any-hit ray, or the first ray of a packet of `count`
-// (its other rays follow as records of kind PacketRay).
+// One recorded call: a closest-hit or any-hit ray, or the first ray of a closest-hit or
+// any-hit packet of `count` (its other rays follow as records of kind PacketRay).
 struct RecordedCall {
-  enum class Kind : std::uint8_t { Closest, Any, Packet, PacketRay };
+  enum class Kind : std::uint8_t { Closest, Any, Packet, AnyPacket, PacketRay };
   Ray ray;
   Kind kind = Kind::Closest;
   int count = 1;
@@ -39,6 +39,7 @@ class RecordingAccelerator final : public Accelerator {
   Hit intersect(const Ray& ray) const override;
   bool occluded(const Ray& ray) const override;
   void intersect_packet(const Ray* rays, Hit* hits, int count) const override;
+  void occluded_packet(const Ray* rays, bool* occluded, int count) const override;
   std::size_t memory_bytes() const override { return inner_.memory_bytes(); }
   std::string_view name() const override { return inner_.name(); }
 
@@ -48,6 +49,7 @@ class RecordingAccelerator final : public Accelerator {
 
  private:
   bool room(std::size_t n) const;
+  void record_packet(const Ray* rays, int count, RecordedCall::Kind kind) const;
 
   const Accelerator& inner_;
   std::size_t max_calls_;
@@ -57,10 +59,13 @@ class RecordingAccelerator final : public Accelerator {
 };
 
 struct ReplayTime {
-  double closest_s = 0.0, any_s = 0.0, packet_s = 0.0;  // one thread's seconds per kind
-  std::uint64_t closest = 0, any = 0, packet_rays = 0;
+  double closest_s = 0.0, any_s = 0.0, packet_s = 0.0, any_packet_s = 0.0;  // one thread's seconds per kind
+  std::uint64_t closest = 0, any = 0, packet_rays = 0, any_packet_rays = 0;
   std::uint64_t checksum = 0;  // of the answers, so that no call can be optimised away
-  double total_s() const { return closest_s + any_s + packet_s; }
+  // The any-hit packets' rays traced again one by one (not part of the total): what the
+  // packets save on the render's own coherent shadow batches.
+  double any_packet_as_single_s = 0.0;
+  double total_s() const { return closest_s + any_s + packet_s + any_packet_s; }
 };
 
 // Traces `calls` against `accel` on the calling thread; the fastest of `reps` replays (the

@@ -248,14 +248,21 @@ void write_table(const RenderBenchOptions& o, const std::vector<SceneResult>& re
         << " |\n";
   }
   // Batches: per bounce of an 8x8 block, its continuation rays and its shadow rays.
-  out << "\n| scene | continuation rays per batch | as packets | shadow rays per batch |\n|---|--:|--:|--:|\n";
+  out << "\n| scene | continuation rays per batch | as packets | shadow rays per batch | as packets | "
+         "shadow packets, ns/ray: packet / one by one |\n|---|--:|--:|--:|--:|--:|\n";
   for (const SceneResult& r : results) {
     if (!r.failure.empty()) continue;
     const PathBatchStats& b = r.batches;
     auto per = [](std::uint64_t n, std::uint64_t d) { return d > 0 ? static_cast<double>(n) / d : 0.0; };
     out << "| " << r.name << " | " << fixed(per(b.continuation_rays, b.continuation_batches), 1) << " | "
         << fixed(100.0 * per(b.packet_rays, b.continuation_rays), 1) << " % | "
-        << fixed(per(b.shadow_rays, b.shadow_batches), 1) << " |\n";
+        << fixed(per(b.shadow_rays, b.shadow_batches), 1) << " | "
+        << fixed(100.0 * per(b.shadow_packet_rays, b.shadow_rays), 1) << " % | ";
+    const std::uint64_t n = r.replay.any_packet_rays;
+    if (n > 0)
+      out << fixed(1e9 * r.replay.any_packet_s / double(n), 1) << " / "
+          << fixed(1e9 * r.replay.any_packet_as_single_s / double(n), 1);
+    out << " |\n";
   }
   const bool any_cycles = std::any_of(results.begin(), results.end(),
                                       [](const SceneResult& r) { return r.cycles || !r.cycles_failure.empty(); });
@@ -300,11 +307,15 @@ void write_json(const RenderBenchOptions& o, const std::vector<SceneResult>& res
                     {"continuation_rays", r.batches.continuation_rays},
                     {"continuation_packet_rays", r.batches.packet_rays},
                     {"shadow_batches", r.batches.shadow_batches},
-                    {"shadow_rays", r.batches.shadow_rays}};
+                    {"shadow_rays", r.batches.shadow_rays},
+                    {"shadow_packet_rays", r.batches.shadow_packet_rays}};
     if (r.mse_lancer > 0.0) s["mse_lancer"] = r.mse_lancer;
     s["replay"] = {{"closest", r.replay.closest},     {"closest_s", r.replay.closest_s}, {"any", r.replay.any},
                    {"any_s", r.replay.any_s},         {"packet_rays", r.replay.packet_rays},
-                   {"packet_s", r.replay.packet_s},   {"truncated", r.replay_truncated}};
+                   {"packet_s", r.replay.packet_s},   {"any_packet_rays", r.replay.any_packet_rays},
+                   {"any_packet_s", r.replay.any_packet_s},
+                   {"any_packet_as_single_s", r.replay.any_packet_as_single_s},
+                   {"truncated", r.replay_truncated}};
     if (r.cycles) {
       s["cycles_s"] = r.cycles_s, s["mse_cycles"] = r.mse_cycles;
       s["equal_error_ratio"] = r.equal_error_ratio();

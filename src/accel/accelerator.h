@@ -25,6 +25,11 @@ class Accelerator {
   virtual void intersect_packet(const Ray* rays, Hit* hits, int count) const {
     for (int i = 0; i < count; ++i) hits[i] = intersect(rays[i]);
   }
+  // occluded[i] = occluded(rays[i]) for rays[0..count): the same contract for occlusion
+  // (shadow rays towards one light from neighbouring points).
+  virtual void occluded_packet(const Ray* rays, bool* occluded, int count) const {
+    for (int i = 0; i < count; ++i) occluded[i] = this->occluded(rays[i]);
+  }
 
   // Bytes the accelerator holds beyond the input triangles.
   virtual std::size_t memory_bytes() const = 0;

@@ -149,7 +149,16 @@ inline std::uint32_t split_lanes(NodeWords n, const PacketRays& p, const PacketE
 
 // Lane i's closest hit by the oracle's rule: smaller t, or equal t and a lower triangle
 // index (so the order of the tests does not matter). V, W, det as in PacketRays.
+//
+// For occlusion any hit will do: it sets best_t and limit to -inf, so that no later test
+// of the lane can hit (t < limit fails) and the lane drops every pending cell when the
+// next one is popped (best_t < entry); a packet whose lanes are all done unwinds its stack.
 inline void keep_closest(PacketRays& p, int i, float t, float V, float W, float det, std::uint32_t prim) {
+  if (p.any_hit) {
+    p.best_t[i] = p.limit[i] = -__builtin_inff();
+    p.best_prim[i] = prim;
+    return;
+  }
   if (t < p.best_t[i] || (t == p.best_t[i] && prim < p.best_prim[i])) {
     p.best_t[i] = t, p.best_V[i] = V, p.best_W[i] = W, p.best_det[i] = det, p.best_prim[i] = prim;
     p.limit[i] = next_up(t);
@@ -162,8 +171,15 @@ template <int N>
 inline void keep_closest_lanes(PacketRays& p, int o, vbool<N> hit, vfloat<N> t, vfloat<N> V, vfloat<N> W,
                                vfloat<N> det, std::uint32_t prim) {
   const Lanes<N> w;
-  const vfloat<N> zero(0.0f), best = load(w, p.best_t + o);
   std::int32_t* best_prim = reinterpret_cast<std::int32_t*>(p.best_prim) + o;
+  if (p.any_hit) {  // keep_closest's occlusion rule
+    const vfloat<N> done(-__builtin_inff());
+    store(hit, p.best_t + o, done);
+    store(hit, p.limit + o, done);
+    store(hit, best_prim, vint<N>(static_cast<std::int32_t>(prim)));
+    return;
+  }
+  const vfloat<N> zero(0.0f), best = load(w, p.best_t + o);
   // Unsigned order of triangle indices through signed compares (kNoHit is the largest).
   const vint<N> bias(std::numeric_limits<std::int32_t>::min()), id(static_cast<std::int32_t>(prim));
   const vbool<N> lower = (id ^ bias) < (load(w, best_prim) ^ bias);
@@ -512,14 +528,19 @@ void traverse_class(const KdTreeView& tree, const Ray* rays, PacketRays& p, std:
 
 }  // namespace kdp
 
+namespace kdp {
+
 // Closest hits of rays[0..count) (count <= 64), each exactly KdTree::intersect's (and the
-// oracle's). The tree's blocks must be B wide.
+// oracle's), or with any_hit some hit of each ray that has one (hits[i].valid() exactly
+// when KdTree::occluded is true; t, u, v are then meaningless). The tree's blocks must be
+// B wide.
 template <int N, int B>
-void kd_intersect_packet(const KdTreeView& tree, const Ray* rays, Hit* hits, int count) {
+void packet(const KdTreeView& tree, const Ray* rays, Hit* hits, int count, bool any_hit) {
   static_assert(B % N == 0 && kdp::kMaxPacket % N == 0, "vectors cover whole lanes");
   // Only the masks need zeroing: setup_vectors writes every lane of the vectors in use,
   // and lanes beyond them are never read (3.7 KiB of memset per packet otherwise).
   alignas(64) kdp::PacketRays p;
+  p.any_hit = any_hit;
   for (int a = 0; a < 3; ++a) p.parallel[a] = p.negative[a] = 0;
   for (int k = 0; k < 6; ++k) p.klass[k] = 0;
   for (int i = 0; i < count; ++i) p.best_prim[i] = kNoHit;
@@ -603,6 +624,22 @@ void kd_intersect_packet(const KdTreeView& tree, const Ray* rays, Hit* hits, int
   } else {
     for (std::uint64_t todo = packet; todo != 0; todo &= todo - 1) write_hit(__builtin_ctzll(todo));
   }
+}
+
+}  // namespace kdp
+
+template <int N, int B>
+void kd_intersect_packet(const KdTreeView& tree, const Ray* rays, Hit* hits, int count) {
+  kdp::packet<N, B>(tree, rays, hits, count, false);
+}
+
+// occluded[i] = KdTree::occluded(rays[i]) for count <= 64 rays traversed as one packet,
+// each lane leaving at its first hit (the slow lanes' closest hits answer the same).
+template <int N, int B>
+void kd_occluded_packet(const KdTreeView& tree, const Ray* rays, bool* occluded, int count) {
+  Hit hits[kdp::kMaxPacket];
+  kdp::packet<N, B>(tree, rays, hits, count, true);
+  for (int i = 0; i < count; ++i) occluded[i] = hits[i].valid();
 }
 
 }  // namespace lancer::LANCER_ISA

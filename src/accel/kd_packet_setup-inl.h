@@ -54,6 +54,8 @@ struct PacketRays {
   std::uint64_t parallel[3];  // bit i: dir[axis] == 0 for ray i
   std::uint64_t negative[3];  // bit i: dir[axis] < 0
   std::uint64_t klass[6];     // rays by shear permutation: 2 * kz + (dir[kz] < 0)
+  // Occlusion (kd_occluded_packet): the first hit ends its lane (see keep_closest).
+  bool any_hit;
 };
 
 // What setup_vectors leaves for the caller, as lane bits.

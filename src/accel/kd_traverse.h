@@ -47,6 +47,9 @@ using KdOccludedFn = bool (*)(const KdTreeView& tree, const Ray& ray);
 // intersect for rays[0..count), count <= 64, traversed together as one packet
 // (kd_packet-inl.h): hits[i] is exactly what intersect gives for rays[i].
 using KdIntersectPacketFn = void (*)(const KdTreeView& tree, const Ray* rays, Hit* hits, int count);
+// occluded for rays[0..count), count <= 64, as one packet whose lanes leave at their first
+// hit: occluded[i] is exactly what occluded gives for rays[i].
+using KdOccludedPacketFn = void (*)(const KdTreeView& tree, const Ray* rays, bool* occluded, int count);
 
 struct KdKernels {
   Isa isa;
@@ -55,6 +58,7 @@ struct KdKernels {
   KdIntersectCountedFn intersect_counted;
   KdOccludedFn occluded;
   KdIntersectPacketFn intersect_packet;
+  KdOccludedPacketFn occluded_packet;
 };
 
 // The kernels of one ISA. Throws std::invalid_argument when this build has none for it

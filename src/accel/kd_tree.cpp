@@ -89,6 +89,14 @@ void KdTree::intersect_packet(const Ray* rays, Hit* hits, int count) const {
     kernels_.intersect_packet(v, rays + i, hits + i, count - i < kPacket ? count - i : kPacket);
 }
 
+void KdTree::occluded_packet(const Ray* rays, bool* occluded, int count) const {
+  if (count < 0) throw std::invalid_argument("kd-tree: negative packet size " + std::to_string(count));
+  constexpr int kPacket = 64;
+  const KdTreeView v = view(*this);
+  for (int i = 0; i < count; i += kPacket)
+    kernels_.occluded_packet(v, rays + i, occluded + i, count - i < kPacket ? count - i : kPacket);
+}
+
 std::size_t KdTree::memory_bytes() const {
   return nodes_.capacity() * sizeof(KdNode) + leaf_prims_.capacity() * sizeof(std::uint32_t) +
          blocks_.capacity() * sizeof(float);

@@ -34,6 +34,8 @@ class KdTree final : public Accelerator {
   // rays (coherent rays, e.g. an 8x8 pixel tile, share most of the work). Throws
   // std::invalid_argument for a negative count.
   void intersect_packet(const Ray* rays, Hit* hits, int count) const override;
+  // occluded for rays[0..count) in packets of up to 64, each lane leaving at its first hit.
+  void occluded_packet(const Ray* rays, bool* occluded, int count) const override;
   std::size_t memory_bytes() const override;
   std::string_view name() const override { return "kdtree"; }
 

@@ -100,10 +100,12 @@ void PathIntegrator::radiance_block(const Ray* rays, const Hit* hits, SobolSampl
         scratch.next_live.push_back(index);
     }
     // The shadow rays: each unoccluded one adds its light, in the order each path queued them.
-    scratch.stats.shadow_batches += scratch.shadows.empty() ? 0 : 1;
-    scratch.stats.shadow_rays += scratch.shadows.size();
-    for (const Scratch::Shadow& shadow : scratch.shadows)
-      if (!accel_.occluded(shadow.ray)) scratch.paths[static_cast<std::size_t>(shadow.path)].L += shadow.contribution;
+    trace_shadows(scratch);
+    for (std::size_t k = 0; k < scratch.shadows.size(); ++k)
+      if (!scratch.blocked[k]) {
+        const Scratch::Shadow& shadow = scratch.shadows[k];
+        scratch.paths[static_cast<std::size_t>(shadow.path)].L += shadow.contribution;
+      }
     // The continuation rays.
     std::swap(scratch.live, scratch.next_live);
     std::swap(scratch.rays, scratch.next_rays);
@@ -124,6 +126,16 @@ int octant(const glm::vec3& d) { return (d.x < 0.0f ? 1 : 0) | (d.y < 0.0f ? 2 :
 
 }  // namespace
 
+// Whether a batch is worth a packet: at least kMinPacketRays rays, all in one octant.
+template <typename DirOf>
+bool PathIntegrator::coherent(std::size_t n, DirOf dir_of) {
+  if (n < kMinPacketRays) return false;
+  const int first = octant(dir_of(0));
+  for (std::size_t k = 1; k < n; ++k)
+    if (octant(dir_of(k)) != first) return false;
+  return true;
+}
+
 // A batch of continuation rays all in one octant (those leaving a flat mirror, say) goes
 // through the packet kernel, any other ray by ray: measured on the Cornell boxes and
 // balls-3, packets of the mixed directions of diffuse bounces gain nothing (docs/performance.md).
@@ -134,15 +146,50 @@ void PathIntegrator::trace_batch(Scratch& scratch) const {
   if (n == 0) return;
   ++scratch.stats.continuation_batches;
   scratch.stats.continuation_rays += n;
-  const int first = octant(scratch.rays[0].dir);
-  bool coherent = n >= kMinPacketRays;
-  for (std::size_t k = 1; k < n && coherent; ++k) coherent = octant(scratch.rays[k].dir) == first;
-  if (coherent) {
+  if (coherent(n, [&](std::size_t k) { return scratch.rays[k].dir; })) {
     scratch.stats.packet_rays += n;
     accel_.intersect_packet(scratch.rays.data(), scratch.hits.data(), static_cast<int>(n));
   } else {
     for (std::size_t k = 0; k < n; ++k) scratch.hits[k] = accel_.intersect(scratch.rays[k]);
   }
+}
+
+// The bounce's shadow rays into scratch.blocked. They are grouped by octant (a counting
+// sort, each group in queue order): a group of at least kMinPacketRays rays (a block's
+// first-bounce rays towards one light, say) is traced as one occlusion packet, the others
+// one by one. Both give the same answers.
+void PathIntegrator::trace_shadows(Scratch& scratch) const {
+  const std::size_t n = scratch.shadows.size();
+  if (2 * n > scratch.blocked_capacity) {
+    scratch.blocked = std::make_unique<bool[]>(2 * n);
+    scratch.blocked_capacity = 2 * n;
+  }
+  if (n == 0) return;
+  ++scratch.stats.shadow_batches;
+  scratch.stats.shadow_rays += n;
+  std::size_t start[9] = {};
+  for (const Scratch::Shadow& shadow : scratch.shadows) ++start[octant(shadow.ray.dir) + 1];
+  for (int o = 0; o < 8; ++o) start[o + 1] += start[o];
+  scratch.shadow_rays.resize(n);
+  scratch.shadow_order.resize(n);
+  std::size_t next[8];
+  std::copy(start, start + 8, next);
+  for (std::size_t k = 0; k < n; ++k) {
+    const std::size_t at = next[octant(scratch.shadows[k].ray.dir)]++;
+    scratch.shadow_rays[at] = scratch.shadows[k].ray;
+    scratch.shadow_order[at] = static_cast<std::uint32_t>(k);
+  }
+  bool* sorted = scratch.blocked.get() + n;
+  for (int o = 0; o < 8; ++o) {
+    const std::size_t first = start[o], count = start[o + 1] - first;
+    if (count >= kMinPacketRays) {
+      scratch.stats.shadow_packet_rays += count;
+      accel_.occluded_packet(&scratch.shadow_rays[first], sorted + first, static_cast<int>(count));
+    } else {
+      for (std::size_t j = first; j < first + count; ++j) sorted[j] = accel_.occluded(scratch.shadow_rays[j]);
+    }
+  }
+  for (std::size_t j = 0; j < n; ++j) scratch.blocked[scratch.shadow_order[j]] = sorted[j];
 }
 
 bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hit, int depth, Scratch& scratch,

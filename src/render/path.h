@@ -14,6 +14,7 @@
 #pragma once
 
 #include <cstdint>
+#include <memory>
 #include <vector>
 
 #include <glm/vec3.hpp>
@@ -63,6 +64,10 @@ class PathIntegrator {
               std::uint64_t& ray_count) const;
   // Closest hits of scratch.rays into scratch.hits: a packet when they are coherent.
   void trace_batch(Scratch& scratch) const;
+  // Whether scratch.shadows[k] is occluded, into scratch.blocked[k]: packets of the coherent ones.
+  void trace_shadows(Scratch& scratch) const;
+  template <typename DirOf>
+  static bool coherent(std::size_t n, DirOf dir_of);
   // Fewer continuation rays than this are traced one by one.
   static constexpr std::size_t kMinPacketRays = 16;
 
@@ -95,6 +100,12 @@ struct PathIntegrator::Scratch {
   std::vector<Ray> rays, next_rays;  // their rays, in the order of `live`
   std::vector<Hit> hits;
   std::vector<Shadow> shadows;  // the bounce's shadow rays, path by path in order
+  std::vector<Ray> shadow_rays;  // their rays alone, grouped by octant for occlusion packets
+  std::vector<std::uint32_t> shadow_order;  // shadow_rays[j] is shadows[shadow_order[j]].ray
+  // Per shadow ray: occluded, in queue order, then in shadow_rays' order (plain bools, as
+  // the kernels write them).
+  std::unique_ptr<bool[]> blocked;
+  std::size_t blocked_capacity = 0;
   PathBatchStats stats;         // added up over every block this scratch served
 };
 

@@ -1,6 +1,8 @@
 // Packet traversal (KdTree::intersect_packet, kd_packet-inl.h) against the oracle and the
 // single-ray kernel: every ray of every packet must get the same triangle and bit-identical
-// t, u, v. Runs per ISA (AllIsas/KdPacket.<Test>/<isa>).
+// t, u, v; the same rays as occlusion packets (KdTree::occluded_packet) the same answers as
+// the any-hit kernel and the oracle. Runs per ISA (AllIsas/KdPacket.<Test>/<isa>).
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
@@ -14,6 +16,7 @@
 #include "accel/brute_force.h"
 #include "accel/kd_traverse_setup.h"
 #include "accel/kd_tree.h"
+#include "accel/ray_offset.h"
 #include "kd_test_support.h"
 #include "scene/load_scene.h"
 #include "scene/procedural.h"
@@ -58,10 +61,27 @@ class KdPacket : public KdIsaTest {
       }
       hit_count += hits[i].valid() ? 1 : 0;
     }
+    check_occlusion_packet(kd, oracle, rays, check_oracle);
     cov.rays += rays.size();
     cov.hits += hit_count;
     cov.partial_packets += (hit_count > 0 && hit_count < rays.size()) ? 1 : 0;
     cov.mixed_sign_packets += mixed_signs(rays) ? 1 : 0;
+  }
+
+  // The same rays as one occlusion packet (lanes leave at their first hit): the answers
+  // of the single-ray any-hit kernel and the oracle.
+  void check_occlusion_packet(const KdTree& kd, const BruteForce& oracle, const std::vector<Ray>& rays,
+                              bool check_oracle = true) {
+    const std::unique_ptr<bool[]> blocked(new bool[rays.size() + 1]);
+    kd.occluded_packet(rays.data(), blocked.get(), static_cast<int>(rays.size()));
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      ASSERT_EQ(blocked[i], kd.occluded(rays[i])) << "occlusion packet lane " << i << " of " << rays.size() << ", "
+                                                  << describe(rays[i]) << " against the single-ray kernel";
+      if (check_oracle) {
+        ASSERT_EQ(blocked[i], oracle.occluded(rays[i]))
+            << "occlusion packet lane " << i << " of " << rays.size() << ", " << describe(rays[i]) << " against the oracle";
+      }
+    }
   }
 
   void check_tiles(const KdTree& kd, const BruteForce& oracle, const std::vector<std::vector<Ray>>& tiles,
@@ -316,6 +336,74 @@ TEST_P(KdPacket, CountsBeyondOnePacket) {
   kd.intersect_packet(rays.data(), &untouched, 0);
   EXPECT_EQ(untouched.prim, 7u);
   EXPECT_THROW(kd.intersect_packet(rays.data(), hits.data(), -1), std::invalid_argument);
+}
+
+// Occlusion packets as the path tracer traces them: shadow segments from points on the
+// scene's triangles towards points of a square light above it, ending just short of it,
+// 64 at a time from one neighbourhood. Some lanes are blocked, some not, in most packets.
+TEST_P(KdPacket, ShadowSegmentPackets) {
+  const TriangleSoA tris = spheres_and_boxes();
+  const KdTree kd(tris, {}, isa());
+  const BruteForce oracle(tris);
+  const Bounds3 b = tris.bounds();
+  const glm::vec3 e = b.extent();
+  TestRng rng(isa_seed() + 17);
+  std::size_t blocked = 0, open = 0, partial = 0;
+  for (int p = 0; p < 40; ++p) {
+    // Neighbouring triangles: a run of indices (procedural meshes are emitted in strips).
+    const std::uint32_t first = rng.below(std::uint32_t(tris.size()));
+    std::vector<Ray> rays;
+    for (int i = 0; i < 64; ++i) {
+      const std::uint32_t prim = std::min<std::uint32_t>(first + rng.below(16), std::uint32_t(tris.size()) - 1);
+      const TriangleCorners t = triangle_corners(tris, prim);
+      double u = rng.uniform(), v = rng.uniform();
+      if (u + v > 1.0) u = 1.0 - u, v = 1.0 - v;
+      const glm::vec3 point = glm::vec3(glm::dvec3(t[0]) * (1.0 - u - v) + glm::dvec3(t[1]) * u + glm::dvec3(t[2]) * v);
+      const glm::vec3 light(b.lo.x + e.x * float(rng.uniform()), b.hi.y + 0.25f * e.y,
+                            b.lo.z + e.z * float(rng.uniform()));
+      const glm::vec3 n = glm::normalize(glm::cross(t[1] - t[0], t[2] - t[0]));
+      Ray r;
+      r.org = SurfaceOffset(point, n, t).origin_towards(light);
+      r.dir = light - r.org;
+      r.tfar = 1.0f - 1e-4f;
+      rays.push_back(r);
+    }
+    const std::unique_ptr<bool[]> out(new bool[rays.size()]);
+    kd.occluded_packet(rays.data(), out.get(), static_cast<int>(rays.size()));
+    std::size_t here = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      ASSERT_EQ(out[i], oracle.occluded(rays[i])) << "packet " << p << " lane " << i << ", " << describe(rays[i]);
+      here += out[i] ? 1 : 0;
+    }
+    blocked += here, open += rays.size() - here;
+    partial += here > 0 && here < rays.size() ? 1 : 0;
+  }
+  EXPECT_GT(blocked, 0u);
+  EXPECT_GT(open, 0u);
+  EXPECT_GT(partial, 10u) << "most packets should have blocked and open lanes";
+}
+
+// Occlusion: more than 64 rays are split into packets; a count of 0 does nothing; negative throws.
+TEST_P(KdPacket, OcclusionCountsBeyondOnePacket) {
+  const TriangleSoA tris = spheres_and_boxes();
+  const KdTree kd(tris, {}, isa());
+  const auto tiles = camera_tiles(Pinhole::looking_at({1.0f, 2.0f, 6.0f}, {0, 0.5f, 0}, {0, 1, 0}, 50.0f, 64), 64, 64);
+  std::vector<Ray> rays;
+  for (int t = 20; t < 23; ++t) rays.insert(rays.end(), tiles[t].begin(), tiles[t].end());
+  rays.resize(150);
+  const std::unique_ptr<bool[]> out(new bool[rays.size()]);
+  kd.occluded_packet(rays.data(), out.get(), static_cast<int>(rays.size()));
+  std::size_t blocked = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    ASSERT_EQ(out[i], kd.occluded(rays[i])) << "ray " << i;
+    blocked += out[i] ? 1 : 0;
+  }
+  EXPECT_GT(blocked, 0u);
+  EXPECT_LT(blocked, rays.size());
+  bool untouched = true;
+  kd.occluded_packet(rays.data(), &untouched, 0);
+  EXPECT_TRUE(untouched);
+  EXPECT_THROW(kd.occluded_packet(rays.data(), out.get(), -1), std::invalid_argument);
 }
 
 INSTANTIATE_TEST_SUITE_P(AllIsas, KdPacket, ::testing::ValuesIn(kd_test_isas()), kd_isa_param_name);

@@ -52,18 +52,26 @@ TEST(RayRecorder, RecordsEveryRayTheRenderTraces) {
     EXPECT_FALSE(recorder.truncated());
     const std::vector<RecordedCall> calls = recorder.calls();
     EXPECT_EQ(calls.size(), recorded.rays);
-    std::uint64_t packet_rays = 0, closest = 0, any = 0;
+    std::uint64_t packet_rays = 0, any_packet_rays = 0, closest = 0, any = 0;
+    bool in_any_packet = false;  // what the PacketRay records continue
     for (const RecordedCall& c : calls) {
-      packet_rays += c.kind == RecordedCall::Kind::Packet || c.kind == RecordedCall::Kind::PacketRay;
+      if (c.kind == RecordedCall::Kind::Packet || c.kind == RecordedCall::Kind::AnyPacket)
+        in_any_packet = c.kind == RecordedCall::Kind::AnyPacket;
+      const bool in_packet = c.kind == RecordedCall::Kind::Packet || c.kind == RecordedCall::Kind::AnyPacket ||
+                             c.kind == RecordedCall::Kind::PacketRay;
+      (in_any_packet ? any_packet_rays : packet_rays) += in_packet;
       closest += c.kind == RecordedCall::Kind::Closest;
       any += c.kind == RecordedCall::Kind::Any;
     }
-    EXPECT_EQ(packet_rays, recorded.primary_rays);
+    EXPECT_EQ(packet_rays, recorded.primary_rays + recorded.path_batches.packet_rays);
+    EXPECT_EQ(any_packet_rays, recorded.path_batches.shadow_packet_rays);
+    EXPECT_GT(any_packet_rays, 0u);
     EXPECT_GT(closest, 0u);
     EXPECT_GT(any, 0u);
     // The replay makes the same calls: one per recorded ray, by kind.
     const bench::ReplayTime t = bench::replay(kd, calls, 1);
     EXPECT_EQ(t.packet_rays, packet_rays);
+    EXPECT_EQ(t.any_packet_rays, any_packet_rays);
     EXPECT_EQ(t.closest, closest);
     EXPECT_EQ(t.any, any);
   }

@@ -70,6 +70,9 @@ TEST(PathBlock, BatchCountsAddUpToTheRaysTraced) {
   EXPECT_GE(b.continuation_batches, blocks);
   EXPECT_LE(b.continuation_batches, blocks * static_cast<std::uint64_t>(s.max_depth));
   EXPECT_LE(b.packet_rays, b.continuation_rays);
+  // A block's first-bounce shadow rays towards the ceiling light are mostly of one octant.
+  EXPECT_GT(b.shadow_packet_rays, b.shadow_rays / 10);
+  EXPECT_LE(b.shadow_packet_rays, b.shadow_rays);
 }
 
 }  // namespace

@@ -126,38 +126,53 @@ int octant(const glm::vec3& d) { return (d.x < 0.0f ? 1 : 0) | (d.y < 0.0f ? 2 :
 
 }  // namespace
 
-// Whether a batch is worth a packet: at least kMinPacketRays rays, all in one octant.
-template <typename DirOf>
-bool PathIntegrator::coherent(std::size_t n, DirOf dir_of) {
-  if (n < kMinPacketRays) return false;
-  const int first = octant(dir_of(0));
-  for (std::size_t k = 1; k < n; ++k)
-    if (octant(dir_of(k)) != first) return false;
-  return true;
+// Rays `ray_of(0..n)` sorted by direction octant into `sorted` (a counting sort: each
+// octant's rays keep their queue order), sorted[j] being ray_of(order[j]); octant o's rays
+// are sorted[start[o], start[o + 1]). Rays of one octant cross every kd-tree plane the same
+// way, which is what a packet needs to share its traversal.
+template <typename RayOf>
+void PathIntegrator::group_by_octant(std::size_t n, RayOf ray_of, OctantGroups& g) {
+  std::fill(g.start, g.start + 9, std::size_t{0});
+  for (std::size_t k = 0; k < n; ++k) ++g.start[octant(ray_of(k).dir) + 1];
+  for (int o = 0; o < 8; ++o) g.start[o + 1] += g.start[o];
+  g.sorted.resize(n);
+  g.order.resize(n);
+  std::size_t next[8];
+  std::copy(g.start, g.start + 8, next);
+  for (std::size_t k = 0; k < n; ++k) {
+    const Ray& r = ray_of(k);
+    const std::size_t at = next[octant(r.dir)]++;
+    g.sorted[at] = r;
+    g.order[at] = static_cast<std::uint32_t>(k);
+  }
 }
 
-// A batch of continuation rays all in one octant (those leaving a flat mirror, say) goes
-// through the packet kernel, any other ray by ray: measured on the Cornell boxes and
-// balls-3, packets of the mixed directions of diffuse bounces gain nothing (docs/performance.md).
-// Both give the same hits.
+// The continuation rays by octant: a group of at least kMinPacketRays rays goes through
+// the packet kernel, the others ray by ray. Both give the same hits.
 void PathIntegrator::trace_batch(Scratch& scratch) const {
   const std::size_t n = scratch.rays.size();
   scratch.hits.resize(n);
   if (n == 0) return;
   ++scratch.stats.continuation_batches;
   scratch.stats.continuation_rays += n;
-  if (coherent(n, [&](std::size_t k) { return scratch.rays[k].dir; })) {
-    scratch.stats.packet_rays += n;
-    accel_.intersect_packet(scratch.rays.data(), scratch.hits.data(), static_cast<int>(n));
-  } else {
-    for (std::size_t k = 0; k < n; ++k) scratch.hits[k] = accel_.intersect(scratch.rays[k]);
+  OctantGroups& g = scratch.groups;
+  group_by_octant(n, [&](std::size_t k) -> const Ray& { return scratch.rays[k]; }, g);
+  g.hits.resize(n);
+  for (int o = 0; o < 8; ++o) {
+    const std::size_t first = g.start[o], count = g.start[o + 1] - first;
+    if (count >= kMinPacketRays) {
+      scratch.stats.packet_rays += count;
+      accel_.intersect_packet(&g.sorted[first], &g.hits[first], static_cast<int>(count));
+    } else {
+      for (std::size_t j = first; j < first + count; ++j) g.hits[j] = accel_.intersect(g.sorted[j]);
+    }
   }
+  for (std::size_t j = 0; j < n; ++j) scratch.hits[g.order[j]] = g.hits[j];
 }
 
-// The bounce's shadow rays into scratch.blocked. They are grouped by octant (a counting
-// sort, each group in queue order): a group of at least kMinPacketRays rays (a block's
-// first-bounce rays towards one light, say) is traced as one occlusion packet, the others
-// one by one. Both give the same answers.
+// The bounce's shadow rays into scratch.blocked, grouped by octant the same way: a group
+// of at least kMinPacketRays rays (a block's first-bounce rays towards one light, say) is
+// traced as one occlusion packet, the others one by one. Both give the same answers.
 void PathIntegrator::trace_shadows(Scratch& scratch) const {
   const std::size_t n = scratch.shadows.size();
   if (2 * n > scratch.blocked_capacity) {
@@ -167,29 +182,19 @@ void PathIntegrator::trace_shadows(Scratch& scratch) const {
   if (n == 0) return;
   ++scratch.stats.shadow_batches;
   scratch.stats.shadow_rays += n;
-  std::size_t start[9] = {};
-  for (const Scratch::Shadow& shadow : scratch.shadows) ++start[octant(shadow.ray.dir) + 1];
-  for (int o = 0; o < 8; ++o) start[o + 1] += start[o];
-  scratch.shadow_rays.resize(n);
-  scratch.shadow_order.resize(n);
-  std::size_t next[8];
-  std::copy(start, start + 8, next);
-  for (std::size_t k = 0; k < n; ++k) {
-    const std::size_t at = next[octant(scratch.shadows[k].ray.dir)]++;
-    scratch.shadow_rays[at] = scratch.shadows[k].ray;
-    scratch.shadow_order[at] = static_cast<std::uint32_t>(k);
-  }
+  OctantGroups& g = scratch.groups;
+  group_by_octant(n, [&](std::size_t k) -> const Ray& { return scratch.shadows[k].ray; }, g);
   bool* sorted = scratch.blocked.get() + n;
   for (int o = 0; o < 8; ++o) {
-    const std::size_t first = start[o], count = start[o + 1] - first;
+    const std::size_t first = g.start[o], count = g.start[o + 1] - first;
     if (count >= kMinPacketRays) {
       scratch.stats.shadow_packet_rays += count;
-      accel_.occluded_packet(&scratch.shadow_rays[first], sorted + first, static_cast<int>(count));
+      accel_.occluded_packet(&g.sorted[first], sorted + first, static_cast<int>(count));
     } else {
-      for (std::size_t j = first; j < first + count; ++j) sorted[j] = accel_.occluded(scratch.shadow_rays[j]);
+      for (std::size_t j = first; j < first + count; ++j) sorted[j] = accel_.occluded(g.sorted[j]);
     }
   }
-  for (std::size_t j = 0; j < n; ++j) scratch.blocked[scratch.shadow_order[j]] = sorted[j];
+  for (std::size_t j = 0; j < n; ++j) scratch.blocked[g.order[j]] = sorted[j];
 }
 
 bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hit, int depth, Scratch& scratch,

@@ -62,13 +62,14 @@ class PathIntegrator {
   // path goes on, its continuation ray. Returns whether it goes on.
   bool bounce(Path& path, int index, const Ray& ray, const Hit& hit, int depth, Scratch& scratch,
               std::uint64_t& ray_count) const;
-  // Closest hits of scratch.rays into scratch.hits: a packet when they are coherent.
+  // Closest hits of scratch.rays into scratch.hits, and whether scratch.shadows[k] is
+  // occluded into scratch.blocked[k]: the rays grouped by octant, big groups as packets.
   void trace_batch(Scratch& scratch) const;
-  // Whether scratch.shadows[k] is occluded, into scratch.blocked[k]: packets of the coherent ones.
   void trace_shadows(Scratch& scratch) const;
-  template <typename DirOf>
-  static bool coherent(std::size_t n, DirOf dir_of);
-  // Fewer continuation rays than this are traced one by one.
+  struct OctantGroups;
+  template <typename RayOf>
+  static void group_by_octant(std::size_t n, RayOf ray_of, OctantGroups& groups);
+  // An octant group of fewer rays than this is traced one by one.
   static constexpr std::size_t kMinPacketRays = 16;
 
   const Scene& scene_;
@@ -89,6 +90,14 @@ struct PathIntegrator::Path {
   SobolSampler* sampler = nullptr;
 };
 
+// A batch of rays sorted by direction octant (group_by_octant).
+struct PathIntegrator::OctantGroups {
+  std::vector<Ray> sorted;
+  std::vector<std::uint32_t> order;  // sorted[j] is the batch's ray order[j]
+  std::size_t start[9] = {};         // octant o: sorted[start[o], start[o + 1])
+  std::vector<Hit> hits;             // closest hits of `sorted`
+};
+
 struct PathIntegrator::Scratch {
   struct Shadow {
     Ray ray;
@@ -100,10 +109,9 @@ struct PathIntegrator::Scratch {
   std::vector<Ray> rays, next_rays;  // their rays, in the order of `live`
   std::vector<Hit> hits;
   std::vector<Shadow> shadows;  // the bounce's shadow rays, path by path in order
-  std::vector<Ray> shadow_rays;  // their rays alone, grouped by octant for occlusion packets
-  std::vector<std::uint32_t> shadow_order;  // shadow_rays[j] is shadows[shadow_order[j]].ray
-  // Per shadow ray: occluded, in queue order, then in shadow_rays' order (plain bools, as
-  // the kernels write them).
+  OctantGroups groups;  // the batch being traced, by octant
+  // Per shadow ray: occluded, in queue order, then in groups' order (plain bools, as the
+  // kernels write them).
   std::unique_ptr<bool[]> blocked;
   std::size_t blocked_capacity = 0;
   PathBatchStats stats;         // added up over every block this scratch served

@@ -7,6 +7,7 @@
 
 #include "accel/ray_offset.h"
 #include "render/bsdf.h"
+#include "render/light_sampling.h"
 #include "render/shading_inputs.h"
 #include "render/shadow_ray.h"
 
@@ -14,7 +15,6 @@ namespace lancer {
 
 namespace {
 
-constexpr float kMinLightDistance2 = 1e-20f;
 constexpr int kRouletteDepth = 3;
 constexpr float kMinSurvival = 0.05f;
 
@@ -250,25 +250,14 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
     // light_samples_ samples.
     for (int k = 0; k < light_samples_ && !area_lights_.empty(); ++k) {
       const std::uint32_t at = k == 0 ? dims : dims + kBounceDimensions + kLightDimensions * (k - 1);
-      const glm::vec2 u_light = sampler.get2(at + kLightPointDimensions);
-      const AreaLightSample ls = area_lights_.sample(sampler.get1(at + kLightPickDimension), u_light.x, u_light.y);
-      const glm::vec3 d = ls.point - si.p;
-      const float dist2 = glm::dot(d, d);
-      if (!(dist2 > kMinLightDistance2 && ls.pdf_area > 0.0f)) continue;
-      const glm::vec3 wi = d / std::sqrt(dist2);
-      const float cos_l = -glm::dot(ls.normal, wi);
-      const BsdfEval e = cos_l > 0.0f && sides_agree(si, wi) ? bsdf.evaluate(wo, wi) : BsdfEval{};
+      const LightSample ls = sample_area_light(scene_, area_lights_, si.p, sampler.get1(at + kLightPickDimension),
+                                               sampler.get2(at + kLightPointDimensions));
+      if (!ls.valid) continue;
+      const BsdfEval e = sides_agree(si, ls.wi) ? bsdf.evaluate(wo, ls.wi) : BsdfEval{};
       if (is_black(e.f)) continue;
-      glm::vec3 Le = ls.radiance;
-      if (scene_.materials[scene_.material_id[ls.prim]].emissive_texture.present()) {
-        Ray toward;
-        toward.org = si.p;
-        toward.dir = wi;
-        Le = evaluate_shading(scene_, toward, Hit{std::sqrt(dist2), ls.prim, ls.b1, ls.b2}).emission;
-      }
-      const float light_pdf = light_samples_ * (ls.pdf_area * dist2 / cos_l);
-      queue_shadow(shadow_ray_to_area_light(leave, ls.point, ls.normal),
-                   beta * e.f * Le * (power_heuristic(light_pdf, e.pdf) / light_pdf));
+      const float light_pdf = light_samples_ * ls.pdf_solid_angle();
+      queue_shadow(shadow_ray_to_area_light(leave, ls.point.point, ls.point.normal),
+                   beta * e.f * ls.radiance * (power_heuristic(light_pdf, e.pdf) / light_pdf));
     }
     // The environment.
     if (environment_) {

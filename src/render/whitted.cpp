@@ -8,6 +8,7 @@
 #include "accel/ray_offset.h"
 #include "render/shading_inputs.h"
 #include "render/fresnel.h"
+#include "render/light_sampling.h"
 #include "render/shadow_ray.h"
 
 namespace lancer {
@@ -15,8 +16,6 @@ namespace lancer {
 namespace {
 
 constexpr float kInvPi = 0.31830988618379067f;
-// Closer than this (squared distance), a light sample's 1/r^2 is not evaluated.
-constexpr float kMinLightDistance2 = 1e-20f;
 
 bool is_mirror(const ShadingInputs& si) { return si.metallic >= 0.5f && si.roughness < 0.2f; }
 
@@ -132,27 +131,23 @@ glm::vec3 WhittedIntegrator::punctual_lighting(const ShadingInputs& si, const Su
 }
 
 // Estimate of the irradiance from the emissive triangles, sampled in area:
-// E = 1/N sum L_e cos_s cos_l / r^2 / pdf_area  (one-sided emitters).
+// E = 1/N sum L_e cos_s cos_l / r^2 / pdf_area  (one-sided emitters), L_e with the
+// emissive texture (sample_area_light, the path tracer's light sample).
 glm::vec3 WhittedIntegrator::area_lighting(const ShadingInputs& si, const SurfaceOffset& leave, SobolSampler& sampler,
                                            std::uint64_t& rays) const {
   if (area_lights_.empty() || light_samples_ <= 0) return glm::vec3(0.0f);
   glm::vec3 sum(0.0f);
   for (int k = 0; k < light_samples_; ++k) {
     const float u_pick = sampler.next1();
-    const glm::vec2 u = sampler.next2();
-    const AreaLightSample ls = area_lights_.sample(u_pick, u.x, u.y);
-    const glm::vec3 d = ls.point - si.p;
-    const float dist2 = glm::dot(d, d);
-    if (!(dist2 > kMinLightDistance2) || !(ls.pdf_area > 0.0f)) continue;
-    const glm::vec3 wi = d / std::sqrt(dist2);
-    const float cos_g = glm::dot(si.ng, wi);
-    const float cos_s = glm::dot(si.ns, wi);
-    const float cos_l = -glm::dot(ls.normal, wi);
-    if (cos_g <= 0.0f || cos_s <= 0.0f || cos_l <= 0.0f) continue;
-    const Ray shadow = shadow_ray_to_area_light(leave, ls.point, ls.normal);
+    const LightSample ls = sample_area_light(scene_, area_lights_, si.p, u_pick, sampler.next2());
+    if (!ls.valid) continue;
+    const float cos_g = glm::dot(si.ng, ls.wi);
+    const float cos_s = glm::dot(si.ns, ls.wi);
+    if (cos_g <= 0.0f || cos_s <= 0.0f) continue;
+    const Ray shadow = shadow_ray_to_area_light(leave, ls.point.point, ls.point.normal);
     ++rays;
     if (accel_.occluded(shadow)) continue;
-    sum += ls.radiance * (cos_s * cos_l / (dist2 * ls.pdf_area));
+    sum += ls.radiance * (cos_s / ls.pdf_solid_angle());
   }
   return sum / static_cast<float>(light_samples_);
 }

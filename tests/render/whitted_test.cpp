@@ -11,6 +11,7 @@
 #include "accel/brute_force.h"
 #include "render/lights.h"
 #include "render/shading_inputs.h"
+#include "render/color.h"
 #include "render/texture.h"
 #include "scene/scene_builder.h"
 #include "render_test_scenes.h"
@@ -249,6 +250,22 @@ TEST(Whitted, TexturesApplyAsInThePathTracer) {
     const glm::vec3 L = radiance(scene, ray);
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(L[k], expected[k], 1e-4f * expected.x) << (emissive ? "emission" : "diffuse") << k;
   }
+}
+
+// Area light samples carry the emitter's texture (sample_area_light, shared with the path
+// tracer): a floor under a light whose texture is orange comes out orange, in the texel's
+// proportions. (Whitted used the emissive factor alone for its light samples before.)
+TEST(Whitted, AreaLightSamplesCarryTheEmissiveTexture) {
+  Scene scene;
+  add_square_z(scene, 0, 0, 0, 10, true, add_material(scene, test::diffuse_material(glm::vec3(0.5f))));
+  Material light = test::emissive_material(glm::vec3(4.0f));
+  light.emissive_texture.texture = test::add_one_texel_texture(scene, 200, 100, 50);
+  add_square_z(scene, 0, 0, 1, 0.5f, false, add_material(scene, light));
+  const glm::vec3 L = radiance(scene, ray_from({0.05f, 0.02f, 0.5f}, {0, 0, -1}), 8, 64);
+  const glm::vec3 texel(srgb8_to_linear(200), srgb8_to_linear(100), srgb8_to_linear(50));
+  ASSERT_GT(L.x, 0.0f);
+  EXPECT_NEAR(L.y / L.x, texel.y / texel.x, 1e-4f);
+  EXPECT_NEAR(L.z / L.x, texel.z / texel.x, 1e-4f);
 }
 
 }  // namespace

@@ -1,0 +1,34 @@
+// Next-event estimation's light sample: a point on the emissive triangles as a shading
+// point sees it. The one light-sampling routine of every integrator (path, Whitted, and
+// the photon mapper to come), so they agree on the geometry, the densities and the
+// radiance of textured emitters.
+#pragma once
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
+#include "render/lights.h"
+#include "scene/scene.h"
+
+namespace lancer {
+
+struct LightSample {
+  AreaLightSample point;  // where on which triangle, its front normal and area density
+  glm::vec3 wi{0.0f};     // unit, from the shading point towards point.point
+  float dist2 = 0.0f;     // squared distance between them
+  float cos_l = 0.0f;     // cos between the light's front normal and -wi
+  // Radiance the point sends towards the shading point: the triangle's emission with its
+  // emissive texture at the point (glTF emissiveFactor x strength x texture).
+  glm::vec3 radiance{0.0f};
+  bool valid = false;  // a usable sample: distinct points, the light's front side faces p
+  // The sample's density per unit solid angle at the shading point.
+  float pdf_solid_angle() const { return point.pdf_area * dist2 / cos_l; }
+};
+
+// A sample of `lights` (not empty) from shading point p with sample values u_pick, u.
+// Invalid (nothing to add) when the point coincides with p, has no density, or p lies
+// behind the emitting side.
+LightSample sample_area_light(const Scene& scene, const AreaLights& lights, const glm::vec3& p, float u_pick,
+                              glm::vec2 u);
+
+}  // namespace lancer

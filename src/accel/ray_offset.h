@@ -65,6 +65,7 @@
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
+#include <glm/gtc/type_ptr.hpp>
 #include <glm/vec3.hpp>
 
 #include "accel/triangle_soa.h"
@@ -105,6 +106,12 @@ inline constexpr double kSubnormalError = 0x1p-148;
 inline constexpr double kMinHeight = 0x1p-64;
 inline constexpr double kInfinite = std::numeric_limits<double>::infinity();
 
+// Component k of v. glm's operator[] is a switch on k: with the shear's axes known only at
+// run time, a branch per access (a quarter of required_height's instructions). glm::value_ptr
+// is glm's own view of the three components as an array.
+inline float component(const glm::vec3& v, int k) { return glm::value_ptr(v)[k]; }
+inline double component(const glm::dvec3& v, int k) { return glm::value_ptr(v)[k]; }
+
 // The kernel's shear for a ray direction d and one choice of its dominant axis kz
 // (watertight.h's WatertightRay, less the swap of kx and ky, which changes no magnitude),
 // and n . d' for the ray it then traces, d' = (sx, sy, 1) / sz on the axes (kx, ky, kz).
@@ -119,10 +126,12 @@ inline Shear make_shear(const glm::vec3& d, const glm::dvec3& n, int kz) {
   sh.kz = kz;
   sh.kx = kz == 2 ? 0 : kz + 1;
   sh.ky = sh.kx == 2 ? 0 : sh.kx + 1;
-  sh.sx = d[sh.kx] / d[kz];
-  sh.sy = d[sh.ky] / d[kz];
-  sh.sz = 1.0f / d[kz];
-  sh.nd = (n[sh.kx] * double(sh.sx) + n[sh.ky] * double(sh.sy) + n[kz]) / double(sh.sz);
+  const float dz = component(d, kz);
+  sh.sx = component(d, sh.kx) / dz;
+  sh.sy = component(d, sh.ky) / dz;
+  sh.sz = 1.0f / dz;
+  sh.nd = (component(n, sh.kx) * double(sh.sx) + component(n, sh.ky) * double(sh.sy) + component(n, kz)) /
+          double(sh.sz);
   return sh;
 }
 
@@ -132,16 +141,18 @@ inline Shear make_shear(const glm::vec3& d, const glm::dvec3& n, int kz) {
 // +inf when neither proof holds.
 inline double required_height(const TriangleCorners& v, const glm::vec3& o, const glm::dvec3& n, const Shear& sh) {
   double X[3], Y[3], z_max = 0.0, s = 0.0;
+  const float ox = component(o, sh.kx), oy = component(o, sh.ky), oz = component(o, sh.kz);
+  const double n_kx = component(n, sh.kx), n_ky = component(n, sh.ky), n_kz = component(n, sh.kz);
   for (int i = 0; i < 3; ++i) {
     // The kernel's float operations, in its order.
-    const float ax = v[i][sh.kx] - o[sh.kx], ay = v[i][sh.ky] - o[sh.ky], az = v[i][sh.kz] - o[sh.kz];
+    const float ax = component(v[i], sh.kx) - ox, ay = component(v[i], sh.ky) - oy, az = component(v[i], sh.kz) - oz;
     const float x = ax - sh.sx * az, y = ay - sh.sy * az, z = sh.sz * az;
     X[i] = x;
     Y[i] = y;
     z_max = std::max(z_max, double(std::fabs(z)));
-    const double shift = std::fabs(n[sh.kz] * az) +
-                         std::fabs(n[sh.kx]) * (std::fabs(ax) + std::fabs(x) + std::fabs(double(sh.sx) * az)) +
-                         std::fabs(n[sh.ky]) * (std::fabs(ay) + std::fabs(y) + std::fabs(double(sh.sy) * az));
+    const double shift = std::fabs(n_kz * az) +
+                         std::fabs(n_kx) * (std::fabs(ax) + std::fabs(x) + std::fabs(double(sh.sx) * az)) +
+                         std::fabs(n_ky) * (std::fabs(ay) + std::fabs(y) + std::fabs(double(sh.sy) * az));
     s = std::max(s, shift);
   }
   s = gamma(2) * s + 3.0 * kSubnormalError;

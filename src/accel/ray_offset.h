@@ -92,6 +92,10 @@ inline glm::vec3 offset_ray_origin(const glm::vec3& p, const glm::vec3& n) {
 
 using TriangleCorners = std::array<glm::vec3, 3>;
 
+namespace ray_offset_batch {
+struct Lanes;
+}
+
 inline TriangleCorners triangle_corners(const TriangleSoA& t, std::size_t i) {
   return {t.vertex(i, 0), t.vertex(i, 1), t.vertex(i, 2)};
 }
@@ -236,20 +240,41 @@ class SurfaceOffset {
     return solve(end - p_, [&](const glm::vec3& o) { return end - o; });
   }
 
+  // Lays out the ray origin(target) (origin_towards(target) when towards) as lane i of a
+  // batch solver, with everything solve knows before its first attempt; false when the
+  // bound does not apply and the ray must be solved here (ray_offset_batch.cpp).
+  bool fill_lane(const glm::vec3& target, bool towards, ray_offset_batch::Lanes& lanes, int i) const;
+
  private:
+  // What solve knows before its first attempt, for a ray whose direction from p is `dir`:
+  // the plane's normal on the ray's side, how far p may lie on the wrong side, the first
+  // height. False when the bound does not apply (a triangle without area, an unusable dir).
+  struct Start {
+    glm::dvec3 normal{0.0};
+    double deficit = 0.0, h = 0.0;
+  };
+  bool start(const glm::vec3& dir, Start& s) const {
+    using namespace ray_offset_detail;
+    if (!valid_ || !usable(dir)) return false;
+    const double toward = glm::dot(glm::dvec3(dir), normal_);
+    const bool flip = toward < 0.0 || (toward == 0.0 && glm::dot(glm::dvec3(n_), normal_) < 0.0);
+    s.normal = flip ? -normal_ : normal_;
+    // How far p lies on the wrong side of the plane, at most.
+    s.deficit = std::max(0.0, (flip ? p_height_ : -p_height_) + p_height_error_);
+    s.h = kMinHeight + 2.0 * s.deficit + o_rounding_;
+    return true;
+  }
+
   // The least height tried first, then grown until the bound holds for the ray from the
   // float origin o with direction dir_for(o); `dir` (the ray from p) picks the side.
   template <typename DirFor>
   glm::vec3 solve(const glm::vec3& dir, DirFor dir_for) const {
     using namespace ray_offset_detail;
-    if (!valid_ || !usable(dir)) return offset_ray_origin(p_, glm::dot(dir, n_) < 0.0f ? -n_ : n_);
-    const double toward = glm::dot(glm::dvec3(dir), normal_);
-    const bool flip = toward < 0.0 || (toward == 0.0 && glm::dot(glm::dvec3(n_), normal_) < 0.0);
-    const glm::dvec3 normal = flip ? -normal_ : normal_;
-    // How far p lies on the wrong side of the plane, at most.
-    const double deficit = std::max(0.0, (flip ? p_height_ : -p_height_) + p_height_error_);
-
-    double h = kMinHeight + 2.0 * deficit + o_rounding_;
+    Start st;
+    if (!start(dir, st)) return offset_ray_origin(p_, glm::dot(dir, n_) < 0.0f ? -n_ : n_);
+    const glm::dvec3& normal = st.normal;
+    const double deficit = st.deficit;
+    double h = st.h;
     glm::vec3 o = p_, sheared(0.0f);
     Shear shears[3];
     int count = 0;

@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 
 #include "accel/ray_offset.h"
+#include "accel/ray_offset_batch.h"
 #include "render/bsdf.h"
 #include "render/light_sampling.h"
 #include "render/shading_inputs.h"
@@ -90,15 +91,19 @@ void PathIntegrator::radiance_block(const Ray* rays, const Hit* hits, SobolSampl
   }
   for (int depth = 0; !scratch.live.empty(); ++depth) {
     // Shade every live path; each queues its shadow rays and, if it goes on, its next ray.
+    scratch.leaves.clear();
     scratch.shadows.clear();
     scratch.next_live.clear();
     scratch.next_rays.clear();
+    scratch.next_leaves.clear();
     for (std::size_t k = 0; k < scratch.live.size(); ++k) {
       const int index = scratch.live[k];
       if (bounce(scratch.paths[static_cast<std::size_t>(index)], index, scratch.rays[k], scratch.hits[k], depth,
                  scratch, ray_count))
         scratch.next_live.push_back(index);
     }
+    // Every ray's origin, in one batch: its bound evaluated for several rays per vector.
+    solve_origins_of_bounce(scratch);
     // The shadow rays: each unoccluded one adds its light, in the order each path queued them.
     trace_shadows(scratch);
     for (std::size_t k = 0; k < scratch.shadows.size(); ++k)
@@ -125,6 +130,23 @@ namespace {
 int octant(const glm::vec3& d) { return (d.x < 0.0f ? 1 : 0) | (d.y < 0.0f ? 2 : 0) | (d.z < 0.0f ? 4 : 0); }
 
 }  // namespace
+
+// The origins of the bounce's shadow and continuation rays, from the hits they leave.
+void PathIntegrator::solve_origins_of_bounce(Scratch& scratch) const {
+  const std::size_t shadows = scratch.shadows.size(), n = shadows + scratch.next_rays.size();
+  scratch.origin_requests.resize(n);
+  scratch.origins.resize(n);
+  for (std::size_t k = 0; k < shadows; ++k) {
+    const Scratch::Shadow& s = scratch.shadows[k];
+    scratch.origin_requests[k] = {&scratch.leaves[s.leaf], s.aim.target, s.aim.towards};
+  }
+  for (std::size_t k = 0; k < scratch.next_rays.size(); ++k)
+    scratch.origin_requests[shadows + k] = {&scratch.leaves[scratch.next_leaves[k]], scratch.next_rays[k].dir, false};
+  solve_origins(scratch.origin_requests.data(), scratch.origins.data(), static_cast<int>(n));
+  for (std::size_t k = 0; k < shadows; ++k)
+    scratch.shadows[k].ray = shadow_ray(scratch.shadows[k].aim, scratch.origins[k]);
+  for (std::size_t k = 0; k < scratch.next_rays.size(); ++k) scratch.next_rays[k].org = scratch.origins[shadows + k];
+}
 
 // Rays `ray_of(0..n)` sorted by direction octant into `sorted` (a counting sort: each
 // octant's rays keep their queue order), sorted[j] being ray_of(order[j]); octant o's rays
@@ -213,10 +235,6 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
   }
   if (path.in_volume) beta *= glm::exp(-path.sigma_a * (hit.t * dir_length));
   const ShadingInputs si = evaluate_shading(scene_, ray, hit);
-  // Origins of the rays leaving this point: pushed off the triangle just far enough that
-  // the ray cannot hit it again, for each ray's exact direction (ray_offset.h).
-  const SurfaceOffset leave(si.p, si.ng, triangle_corners(scene_.triangles, hit.prim));
-
   if (si.front_face && !is_black(si.emission)) {
     float w = 1.0f;
     if (!path.prev_delta) {
@@ -229,6 +247,11 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
     L += beta * si.emission * w;
   }
   if (depth >= max_depth_) return false;
+  // Origins of the rays leaving this point: pushed off the triangle just far enough that
+  // the ray cannot hit it again, for each ray's exact direction (ray_offset.h), solved for
+  // the whole bounce at once (solve_origins_of_bounce).
+  const auto leaf = static_cast<std::uint32_t>(scratch.leaves.size());
+  scratch.leaves.emplace_back(si.p, si.ng, triangle_corners(scene_.triangles, hit.prim));
 
   // The dimensions of one bounce: a fixed layout whatever is used, each value computed
   // only where it is used.
@@ -239,9 +262,9 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
                           si.specular,   si.specular_color, si.transmission, si.thin_walled};
   const Bsdf bsdf(inputs, ShadingFrame::from_normal_tangent(si.ns, si.tangent), si.front_face);
   const Bsdf::Outgoing wo = bsdf.outgoing(-dir);
-  auto queue_shadow = [&](const Ray& shadow, const glm::vec3& contribution) {
+  auto queue_shadow = [&](const ShadowAim& aim, const glm::vec3& contribution) {
     ++ray_count;
-    scratch.shadows.push_back({shadow, contribution, index});
+    scratch.shadows.push_back({Ray{}, aim, contribution, index, leaf});
   };
 
   if (!bsdf.is_delta_only()) {
@@ -256,7 +279,7 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
       const BsdfEval e = sides_agree(si, ls.wi) ? bsdf.evaluate(wo, ls.wi) : BsdfEval{};
       if (is_black(e.f)) continue;
       const float light_pdf = light_samples_ * ls.pdf_solid_angle();
-      queue_shadow(shadow_ray_to_area_light(leave, ls.point.point, ls.point.normal),
+      queue_shadow(aim_at_area_light(ls.point.point, ls.point.normal),
                    beta * e.f * ls.radiance * (power_heuristic(light_pdf, e.pdf) / light_pdf));
     }
     // The environment.
@@ -264,10 +287,7 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
       const EnvSample es = environment_->sample(sampler.get2(dims + kEnvironmentDimensions));
       const BsdfEval e = es.pdf > 0.0f && sides_agree(si, es.dir) ? bsdf.evaluate(wo, es.dir) : BsdfEval{};
       if (!is_black(e.f) && !is_black(es.radiance)) {
-        Ray shadow;
-        shadow.org = leave.origin(es.dir);
-        shadow.dir = es.dir;
-        queue_shadow(shadow, beta * e.f * es.radiance * (power_heuristic(es.pdf, e.pdf) / es.pdf));
+        queue_shadow(ShadowAim{es.dir, false, kInfinity}, beta * e.f * es.radiance * (power_heuristic(es.pdf, e.pdf) / es.pdf));
       }
     }
     // Punctual lights: delta lights, one shadow ray each.
@@ -276,7 +296,7 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
       if (is_black(in.irradiance) || !sides_agree(si, in.wi)) continue;
       const glm::vec3 f = bsdf.evaluate(wo, in.wi).f;
       if (is_black(f)) continue;
-      queue_shadow(shadow_ray_to_punctual(leave, light, in.wi), beta * f * in.irradiance);
+      queue_shadow(aim_at_punctual(light, in.wi), beta * f * in.irradiance);
     }
   }
 
@@ -296,11 +316,11 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
     if (sampler.get1(dims + kRouletteDimension) >= survive) return false;
     beta /= survive;
   }
-  Ray next;
-  next.org = leave.origin(bs->wi);
+  Ray next;  // its origin: solve_origins_of_bounce
   next.dir = bs->wi;
   ++ray_count;
   scratch.next_rays.push_back(next);
+  scratch.next_leaves.push_back(leaf);
   return true;
 }
 

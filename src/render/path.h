@@ -20,6 +20,8 @@
 #include <glm/vec3.hpp>
 
 #include "accel/accelerator.h"
+#include "accel/ray_offset_batch.h"
+#include "render/shadow_ray.h"
 #include "render/environment.h"
 #include "render/lights.h"
 #include "render/render_settings.h"
@@ -66,6 +68,8 @@ class PathIntegrator {
   // occluded into scratch.blocked[k]: the rays grouped by octant, big groups as packets.
   void trace_batch(Scratch& scratch) const;
   void trace_shadows(Scratch& scratch) const;
+  // The origins of the bounce's shadow and continuation rays (ray_offset_batch.h).
+  void solve_origins_of_bounce(Scratch& scratch) const;
   struct OctantGroups;
   template <typename RayOf>
   static void group_by_octant(std::size_t n, RayOf ray_of, OctantGroups& groups);
@@ -100,13 +104,19 @@ struct PathIntegrator::OctantGroups {
 
 struct PathIntegrator::Scratch {
   struct Shadow {
-    Ray ray;
+    Ray ray;  // made from `aim` once the bounce's origins are solved
+    ShadowAim aim;
     glm::vec3 contribution;  // added to the path's L if the ray is unoccluded
     int path;
+    std::uint32_t leaf;  // the hit it leaves, in `leaves`
   };
+  std::vector<SurfaceOffset> leaves;  // the bounce's hit points, for their rays' origins
   std::vector<Path> paths;          // one per camera ray of the block
   std::vector<int> live, next_live;  // the paths still going, by index
   std::vector<Ray> rays, next_rays;  // their rays, in the order of `live`
+  std::vector<std::uint32_t> next_leaves;  // the hit each of next_rays leaves, in `leaves`
+  std::vector<OriginRequest> origin_requests;  // the bounce's origins: shadows, then next_rays
+  std::vector<glm::vec3> origins;
   std::vector<Hit> hits;
   std::vector<Shadow> shadows;  // the bounce's shadow rays, path by path in order
   OctantGroups groups;  // the batch being traced, by octant

@@ -221,8 +221,15 @@ class FormerFloor final : public Accelerator {
   explicit FormerFloor(const Accelerator& inner) : inner_(inner) {}
   Hit intersect(const Ray& ray) const override { return inner_.intersect(lifted(ray)); }
   bool occluded(const Ray& ray) const override { return inner_.occluded(lifted(ray)); }
+  // The path tracer traces coherent secondary rays as packets too: every ray is lifted
+  // (camera rays start far from the plane and are left as they are).
   void intersect_packet(const Ray* rays, Hit* hits, int count) const override {
-    inner_.intersect_packet(rays, hits, count);  // camera rays
+    const std::vector<Ray> up = lifted(rays, count);
+    inner_.intersect_packet(up.data(), hits, count);
+  }
+  void occluded_packet(const Ray* rays, bool* occluded, int count) const override {
+    const std::vector<Ray> up = lifted(rays, count);
+    inner_.occluded_packet(up.data(), occluded, count);
   }
   std::size_t memory_bytes() const override { return inner_.memory_bytes(); }
   std::string_view name() const override { return "former-floor"; }
@@ -234,6 +241,11 @@ class FormerFloor final : public Accelerator {
     r.org.z = std::copysign(kFormerFloor, ray.dir.z);
     if (std::isfinite(ray.tfar)) r.dir = ray.org + ray.dir - r.org;
     return r;
+  }
+  static std::vector<Ray> lifted(const Ray* rays, int count) {
+    std::vector<Ray> up(rays, rays + count);
+    for (Ray& r : up) r = lifted(r);
+    return up;
   }
   const Accelerator& inner_;
 };

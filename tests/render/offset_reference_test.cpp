@@ -53,9 +53,17 @@ class ReoffsetAccelerator final : public Accelerator {
 
   Hit intersect(const Ray& ray) const override { return inner_.intersect(moved(ray)); }
   bool occluded(const Ray& ray) const override { return inner_.occluded(moved(ray)); }
-  // Camera rays: unchanged.
+  // The path tracer traces coherent secondary rays as packets too: each is moved as alone
+  // (camera rays start far from every surface and stay as they are).
   void intersect_packet(const Ray* rays, Hit* hits, int count) const override {
-    inner_.intersect_packet(rays, hits, count);
+    std::vector<Ray> each(rays, rays + count);
+    for (Ray& r : each) r = moved(r);
+    inner_.intersect_packet(each.data(), hits, count);
+  }
+  void occluded_packet(const Ray* rays, bool* occluded, int count) const override {
+    std::vector<Ray> each(rays, rays + count);
+    for (Ray& r : each) r = moved(r);
+    inner_.occluded_packet(each.data(), occluded, count);
   }
   std::size_t memory_bytes() const override { return inner_.memory_bytes(); }
   std::string_view name() const override { return "reoffset"; }

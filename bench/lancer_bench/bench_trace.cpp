@@ -15,7 +15,7 @@ double seconds_since(Clock::time_point start) { return std::chrono::duration<dou
 }  // namespace
 
 std::string lancer_call_name(Mode mode, bool occlusion) {
-  if (occlusion) return "occluded per ray (no packet occlusion kernel)";
+  if (occlusion) return mode == Mode::Packet ? "occluded_packet (64-ray chunks)" : "occluded per ray";
   return mode == Mode::Packet ? "intersect_packet (64-ray chunks)" : "intersect per ray";
 }
 
@@ -25,7 +25,7 @@ double trace_lancer(const KdTree& kd, Mode mode, bool occlusion, std::span<const
   if (occlusion) {
     out.occluded.resize(rays.size());
     const auto start = Clock::now();
-    trace_occluded(kd, rays, arena, out.occluded);
+    trace_occluded(kd, rays, trace_mode, arena, out.occluded);
     return seconds_since(start);
   }
   out.hits.resize(rays.size());

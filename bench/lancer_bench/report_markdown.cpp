@@ -148,7 +148,6 @@ void write_throughput(const BenchRun& run, std::ostream& out) {
     for (Mode m : modes)
       if (m != Mode::Embree) out << "--:|";
   out << "\n";
-  bool shadow_packet = false;
   for (const SceneResult& s : run.scenes)
     for (const Row& r : s.rows) {
       out << "| " << s.name << " | " << ray_set_name(r.set) << " | " << r.rays << " | " << isa_name(r.isa) << " | "
@@ -166,10 +165,7 @@ void write_throughput(const BenchRun& run, std::ostream& out) {
       const RateSummary es = e ? summarize(e->seconds, r.rays) : RateSummary{};
       for (Mode m : modes) {
         const RateSummary rs = summarize(find_mode(r, m)->seconds, r.rays);
-        const bool dagger = m == Mode::Packet && r.set == RaySet::Shadow;
-        shadow_packet = shadow_packet || dagger;
-        out << " " << fixed(rs.median, 2) << (dagger ? "†" : "") << " [" << fixed(rs.min, 2) << "-" << fixed(rs.max, 2)
-            << "] |";
+        out << " " << fixed(rs.median, 2) << " [" << fixed(rs.min, 2) << "-" << fixed(rs.max, 2) << "] |";
       }
       if (embree) out << " " << e->call << " |";
       if (embree)
@@ -181,9 +177,6 @@ void write_throughput(const BenchRun& run, std::ostream& out) {
       out << "\n";
     }
   out << "\n";
-  if (shadow_packet)
-    out << "† Shadow rays: Lancer has no packet occlusion kernel yet, so its packet column calls KdTree::occluded per "
-           "ray (the same work as single).\n";
   if (embree)
     out << "Embree: primary rays with rtcIntersect16 and RTC_INTERSECT_CONTEXT_FLAG_COHERENT, four 16-ray calls per "
            "8x8 tile; diffuse and shadow rays with whichever candidate call was fastest on one thread for that scene "

@@ -151,8 +151,8 @@ void add_trace_command(CLI::App& app, TraceOptions& opt) {
   trace->add_option("--threads", opt.threads, "Worker threads (0: all cores); the answers do not depend on it")
       ->check(CLI::Range(0, 4096))->capture_default_str();
   trace->add_flag("--occlusion", opt.occlusion,
-                  "Answer occluded-or-not instead of the closest hit, with one occluded() call per ray in both "
-                  "modes (there is no packet occlusion kernel)");
+                  "Answer occluded-or-not instead of the closest hit: occlusion packets of 64 consecutive rays "
+                  "(--mode packet, each ray leaving at its first hit) or one occluded() call per ray (single)");
 }
 
 void add_rays_command(CLI::App& app, RaysOptions& opt) {

@@ -41,7 +41,7 @@ int run_trace(const TraceOptions& opt, std::ostream& out, std::ostream& err) {
     const auto start = std::chrono::steady_clock::now();
     if (opt.occlusion) {
       occluded.resize(rays.size());
-      trace_occluded(*accel, rays, arena, occluded);
+      trace_occluded(*accel, rays, opt.mode, arena, occluded);
     } else {
       hits.resize(rays.size());
       trace_closest(*accel, rays, opt.mode, arena, hits);

@@ -16,11 +16,17 @@ void trace_closest(const Accelerator& accel, std::span<const Ray> rays, TraceMod
   });
 }
 
-void trace_occluded(const Accelerator& accel, std::span<const Ray> rays, tbb::task_arena& arena,
+void trace_occluded(const Accelerator& accel, std::span<const Ray> rays, TraceMode mode, tbb::task_arena& arena,
                     std::span<std::uint8_t> occluded) {
   if (occluded.size() != rays.size()) throw std::invalid_argument("trace_occluded: not one answer slot per ray");
   for_each_ray_chunk(arena, rays.size(), [&](std::size_t first, std::size_t count) {
-    for (std::size_t i = first; i < first + count; ++i) occluded[i] = accel.occluded(rays[i]) ? 1 : 0;
+    if (mode == TraceMode::Packet) {
+      bool blocked[kRayBatchChunk];
+      accel.occluded_packet(rays.data() + first, blocked, static_cast<int>(count));
+      for (std::size_t i = 0; i < count; ++i) occluded[first + i] = blocked[i] ? 1 : 0;
+    } else {
+      for (std::size_t i = first; i < first + count; ++i) occluded[i] = accel.occluded(rays[i]) ? 1 : 0;
+    }
   });
 }
 

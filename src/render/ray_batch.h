@@ -42,10 +42,10 @@ void for_each_ray_chunk(tbb::task_arena& arena, std::size_t rays, const TraceChu
 void trace_closest(const Accelerator& accel, std::span<const Ray> rays, TraceMode mode, tbb::task_arena& arena,
                    std::span<Hit> hits);
 
-// occluded[i] = 1 when rays[i] is blocked, else 0 (sizes must match). One
-// Accelerator::occluded call per ray: there is no packet occlusion kernel, so the trace
-// mode makes no difference here.
-void trace_occluded(const Accelerator& accel, std::span<const Ray> rays, tbb::task_arena& arena,
+// occluded[i] = 1 when rays[i] is blocked, else 0 (sizes must match): Packet mode hands
+// each chunk to one Accelerator::occluded_packet call (lanes leave at their first hit),
+// Single mode calls Accelerator::occluded per ray. Both give the same answers.
+void trace_occluded(const Accelerator& accel, std::span<const Ray> rays, TraceMode mode, tbb::task_arena& arena,
                     std::span<std::uint8_t> occluded);
 
 }  // namespace lancer

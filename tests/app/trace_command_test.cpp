@@ -114,7 +114,7 @@ TEST(TraceCli, HelpDescribesTheOptions) {
   const CliResult trace = run({"trace", "--help"});
   EXPECT_EQ(trace.code, 0);
   for (const char* text : {"--rays", "--hits", "--mode", "--isa", "--threads", "--occlusion", "packet", "single",
-                           "no packet occlusion kernel"})
+                           "occlusion packets"})
     EXPECT_NE(trace.out.find(text), std::string::npos) << text;
   const CliResult rays = run({"rays", "--help"});
   EXPECT_EQ(rays.code, 0);

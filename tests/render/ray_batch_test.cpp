@@ -87,20 +87,22 @@ TEST(RayBatch, OcclusionIsTheOraclesAndSizesMustMatch) {
   const KdTree kd(scene.triangles);
   const std::vector<Ray> rays = random_rays(300);
   tbb::task_arena arena(2);
-  std::vector<std::uint8_t> occluded(rays.size(), 7);
-  trace_occluded(kd, rays, arena, occluded);
-  std::size_t blocked = 0;
-  for (std::size_t i = 0; i < rays.size(); ++i) {
-    EXPECT_EQ(occluded[i], oracle.occluded(rays[i]) ? 1 : 0) << "ray " << i;
-    blocked += occluded[i];
+  for (const TraceMode mode : {TraceMode::Packet, TraceMode::Single}) {
+    std::vector<std::uint8_t> occluded(rays.size(), 7);
+    trace_occluded(kd, rays, mode, arena, occluded);
+    std::size_t blocked = 0;
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      EXPECT_EQ(occluded[i], oracle.occluded(rays[i]) ? 1 : 0) << "ray " << i;
+      blocked += occluded[i];
+    }
+    EXPECT_GT(blocked, 0u);
+    EXPECT_LT(blocked, rays.size());
   }
-  EXPECT_GT(blocked, 0u);
-  EXPECT_LT(blocked, rays.size());
 
   std::vector<Hit> short_hits(rays.size() - 1);
   EXPECT_THROW(trace_closest(kd, rays, TraceMode::Packet, arena, short_hits), std::invalid_argument);
   std::vector<std::uint8_t> short_occluded(rays.size() + 1);
-  EXPECT_THROW(trace_occluded(kd, rays, arena, short_occluded), std::invalid_argument);
+  EXPECT_THROW(trace_occluded(kd, rays, TraceMode::Packet, arena, short_occluded), std::invalid_argument);
 }
 
 }  // namespace

@@ -104,6 +104,9 @@ struct ShadingFrame {
   // t projected onto the plane of n (Gram-Schmidt); falls back to from_normal when t is
   // (nearly) parallel to n or not finite.
   static ShadingFrame from_normal_tangent(const glm::vec3& n, const glm::vec3& t);
+  // The frame of a tangent already unit and orthogonal to n (ShadingInputs' tangent): no
+  // second projection, no square root.
+  static ShadingFrame from_orthonormal(const glm::vec3& n, const glm::vec3& t);
   glm::vec3 to_local(const glm::vec3& v) const;
   glm::vec3 to_world(const glm::vec3& v) const;
 };

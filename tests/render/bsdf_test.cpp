@@ -3,6 +3,7 @@
 // two-sided conventions, and robustness at the edges. Statistical tests (chi-square and
 // white furnace) are in bsdf_sampling_test.cpp.
 #include "render/bsdf.h"
+#include "render/normal_mapping.h"
 
 #include <cmath>
 #include <limits>
@@ -467,8 +468,10 @@ TEST(ShadingFrame, IsOrthonormalAndRoundTrips) {
   for (int i = 0; i < 200; ++i) normals.push_back(uniform_sphere(rng));
   for (const glm::vec3& n : normals) {
     const glm::vec3 any_tangent = uniform_sphere(rng);
+    // from_orthonormal with the tangent evaluate_shading would give (orthogonal_tangent).
     const ShadingFrame frames[] = {ShadingFrame::from_normal(n), ShadingFrame::from_normal_tangent(n, any_tangent),
-                                   ShadingFrame::from_normal_tangent(n, n), ShadingFrame::from_normal_tangent(n, {})};
+                                   ShadingFrame::from_normal_tangent(n, n), ShadingFrame::from_normal_tangent(n, {}),
+                                   ShadingFrame::from_orthonormal(n, orthogonal_tangent(any_tangent, n))};
     for (const ShadingFrame& f : frames) {
       EXPECT_NEAR(glm::length(f.t), 1.0f, 1e-5f);
       EXPECT_NEAR(glm::length(f.b), 1.0f, 1e-5f);

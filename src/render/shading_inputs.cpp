@@ -92,18 +92,23 @@ ShadingInputs evaluate_shading(const Scene& scene, const Ray& ray, const Hit& hi
   si.attenuation_distance = m.attenuation_distance;
   si.attenuation_color = m.attenuation_color;
 
-  // The frame is built on the front side, where the file's tangents and normal map
-  // live, then flipped with the normals to the ray's side.
-  glm::vec3 n = sp.stored_shading_normal();
-  glm::vec4 frame = normal_map_frame(scene, tri, flags, w, u, v, n, m.normal_texture);
-  if (frame.w == 0.0f) frame = glm::vec4(any_tangent(n), 1.0f);
-  if (m.normal_texture.present() && texture_image(scene, m.normal_texture)) {
-    const glm::vec3 texel(lookup(m.normal_texture, TexelEncoding::Linear));
-    n = perturb_normal(n, frame, texel, m.normal_texture.scale);
-  }
   const float side = sp.front_face ? 1.0f : -1.0f;
   const glm::vec3 wo = -glm::normalize(ray.dir);
   si.ng = sp.ng;
+  glm::vec3 n = sp.stored_shading_normal();
+  if (!(m.normal_texture.present() && texture_image(scene, m.normal_texture))) {
+    // No normal map: the BSDFs are isotropic, so any tangent will do, and the file's
+    // tangents or the UV frame need not be computed.
+    si.ns = face_viewer(side * n, sp.ng, wo);
+    si.tangent = any_tangent(si.ns);
+    return si;
+  }
+  // The frame is built on the front side, where the file's tangents and normal map
+  // live, then flipped with the normals to the ray's side.
+  glm::vec4 frame = normal_map_frame(scene, tri, flags, w, u, v, n, m.normal_texture);
+  if (frame.w == 0.0f) frame = glm::vec4(any_tangent(n), 1.0f);
+  const glm::vec3 texel(lookup(m.normal_texture, TexelEncoding::Linear));
+  n = perturb_normal(n, frame, texel, m.normal_texture.scale);
   si.ns = face_viewer(side * n, sp.ng, wo);
   si.tangent = orthogonal_tangent(glm::vec3(frame), si.ns);
   return si;

@@ -26,9 +26,10 @@
 //    texture's UV set after its KHR_texture_transform (normal_mapping.h). A triangle
 //    without usable UVs gets an arbitrary frame around ns.
 //  - ns is then kept on the viewer's side by face_viewer() (normal_mapping.h).
-//  - tangent is unit and orthogonal to the final ns, along the frame's T; the BSDF
-//    frame is (tangent, cross(ns, tangent), ns). Handedness is not carried: isotropic
-//    BSDFs do not need it.
+//  - tangent is unit and orthogonal to the final ns: along the frame's T where a normal
+//    map is applied, any tangent (Duff et al. 2017) otherwise; the BSDF frame is
+//    (tangent, cross(ns, tangent), ns). Handedness is not carried: isotropic BSDFs do not
+//    need it, nor the file's tangents without a normal map.
 //  - uv0 / uv1 are the interpolated TEXCOORD_0 / _1, (0, 0) when the triangle has none
 //    (what a GPU reads for a missing attribute).
 #pragma once

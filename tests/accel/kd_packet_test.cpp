@@ -317,6 +317,7 @@ TEST_P(KdPacket, LanesAcrossTheVectorSetupLimits) {
 }
 
 // More than 64 rays are split into packets; a count of 0 does nothing; negative throws.
+// The same for occlusion packets.
 TEST_P(KdPacket, CountsBeyondOnePacket) {
   const TriangleSoA tris = spheres_and_boxes();
   const KdTree kd(tris, {}, isa());
@@ -336,6 +337,20 @@ TEST_P(KdPacket, CountsBeyondOnePacket) {
   kd.intersect_packet(rays.data(), &untouched, 0);
   EXPECT_EQ(untouched.prim, 7u);
   EXPECT_THROW(kd.intersect_packet(rays.data(), hits.data(), -1), std::invalid_argument);
+
+  const std::unique_ptr<bool[]> blocked(new bool[rays.size()]);
+  kd.occluded_packet(rays.data(), blocked.get(), static_cast<int>(rays.size()));
+  std::size_t occluded = 0;
+  for (std::size_t i = 0; i < rays.size(); ++i) {
+    ASSERT_EQ(blocked[i], kd.occluded(rays[i])) << "ray " << i;
+    occluded += blocked[i] ? 1 : 0;
+  }
+  EXPECT_GT(occluded, 0u);
+  EXPECT_LT(occluded, rays.size());
+  bool unset = true;
+  kd.occluded_packet(rays.data(), &unset, 0);
+  EXPECT_TRUE(unset);
+  EXPECT_THROW(kd.occluded_packet(rays.data(), blocked.get(), -1), std::invalid_argument);
 }
 
 // Occlusion packets as the path tracer traces them: shadow segments from points on the
@@ -381,29 +396,6 @@ TEST_P(KdPacket, ShadowSegmentPackets) {
   EXPECT_GT(blocked, 0u);
   EXPECT_GT(open, 0u);
   EXPECT_GT(partial, 10u) << "most packets should have blocked and open lanes";
-}
-
-// Occlusion: more than 64 rays are split into packets; a count of 0 does nothing; negative throws.
-TEST_P(KdPacket, OcclusionCountsBeyondOnePacket) {
-  const TriangleSoA tris = spheres_and_boxes();
-  const KdTree kd(tris, {}, isa());
-  const auto tiles = camera_tiles(Pinhole::looking_at({1.0f, 2.0f, 6.0f}, {0, 0.5f, 0}, {0, 1, 0}, 50.0f, 64), 64, 64);
-  std::vector<Ray> rays;
-  for (int t = 20; t < 23; ++t) rays.insert(rays.end(), tiles[t].begin(), tiles[t].end());
-  rays.resize(150);
-  const std::unique_ptr<bool[]> out(new bool[rays.size()]);
-  kd.occluded_packet(rays.data(), out.get(), static_cast<int>(rays.size()));
-  std::size_t blocked = 0;
-  for (std::size_t i = 0; i < rays.size(); ++i) {
-    ASSERT_EQ(out[i], kd.occluded(rays[i])) << "ray " << i;
-    blocked += out[i] ? 1 : 0;
-  }
-  EXPECT_GT(blocked, 0u);
-  EXPECT_LT(blocked, rays.size());
-  bool untouched = true;
-  kd.occluded_packet(rays.data(), &untouched, 0);
-  EXPECT_TRUE(untouched);
-  EXPECT_THROW(kd.occluded_packet(rays.data(), out.get(), -1), std::invalid_argument);
 }
 
 INSTANTIATE_TEST_SUITE_P(AllIsas, KdPacket, ::testing::ValuesIn(kd_test_isas()), kd_isa_param_name);

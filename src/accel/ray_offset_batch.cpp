@@ -1,6 +1,5 @@
 #include "accel/ray_offset_batch.h"
 
-#include <algorithm>
 #include <stdexcept>
 
 namespace lancer {
@@ -84,6 +83,12 @@ bool SurfaceOffset::fill_lane(const glm::vec3& target, bool towards, ray_offset_
   lanes.o_rounding[i] = o_rounding_;
   lanes.towards[i] = towards ? 1 : 0;
   return true;
+}
+
+int solve_origins(const OriginRequest* requests, glm::vec3* origins, int count) {
+  // best_supported_isa() probes the CPU and builds a list: once, not per bounce.
+  static const Isa best = best_supported_isa();
+  return solve_origins(requests, origins, count, best);
 }
 
 int solve_origins(const OriginRequest* requests, glm::vec3* origins, int count, Isa isa) {

@@ -27,10 +27,12 @@ struct OriginRequest {
   bool towards = false;
 };
 
-// origins[i] = the origin requests[i] asks for, for i in [0, count). Uses the solver of
-// `isa` (the best this CPU runs by default); every ISA gives the same origins. Returns how
-// many requests went to the scalar solver (the tests check that both paths are taken).
-int solve_origins(const OriginRequest* requests, glm::vec3* origins, int count, Isa isa = best_supported_isa());
+// origins[i] = the origin requests[i] asks for, for i in [0, count), with the solver of
+// `isa`; every ISA gives the same origins. Returns how many requests went to the scalar
+// solver (the tests check that both paths are taken).
+int solve_origins(const OriginRequest* requests, glm::vec3* origins, int count, Isa isa);
+// The same with the best ISA this CPU runs, chosen once (the renderer calls it per bounce).
+int solve_origins(const OriginRequest* requests, glm::vec3* origins, int count);
 
 namespace ray_offset_batch {
 

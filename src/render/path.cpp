@@ -297,7 +297,7 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
       const EnvSample es = environment_->sample(sampler.get2(dims + kEnvironmentDimensions));
       const BsdfEval e = es.pdf > 0.0f && sides_agree(si, es.dir) ? bsdf.evaluate(wo, es.dir) : BsdfEval{};
       if (!is_black(e.f) && !is_black(es.radiance)) {
-        queue_shadow(ShadowAim{es.dir, false, kInfinity}, beta * e.f * es.radiance * (power_heuristic(es.pdf, e.pdf) / es.pdf));
+        queue_shadow(aim_along(es.dir), beta * e.f * es.radiance * (power_heuristic(es.pdf, e.pdf) / es.pdf));
       }
     }
     // Punctual lights: delta lights, one shadow ray each.

@@ -41,10 +41,13 @@ inline ShadowAim aim_at_area_light(const glm::vec3& light_point, const glm::vec3
   return {offset_ray_origin(light_point, light_normal), true, 1.0f - kShadowShorten};
 }
 
+// Along the unit direction `dir`, without bound (the environment, a directional light).
+inline ShadowAim aim_along(const glm::vec3& dir) { return {dir, false, kInfinity}; }
+
 // Towards a KHR_lights_punctual light: along wi (unit, towards the light) without bound for
 // a directional light, up to the light's position otherwise.
 inline ShadowAim aim_at_punctual(const PunctualLight& light, const glm::vec3& wi) {
-  if (light.type == LightType::Directional) return {wi, false, kInfinity};
+  if (light.type == LightType::Directional) return aim_along(wi);
   return {light.position, true, 1.0f - kShadowShorten};
 }
 

@@ -23,11 +23,24 @@ void check_block(const PixelBlock& block) {
 }
 }  // namespace
 
-void PrimaryBlock::generate(const PinholeCamera& camera, const PixelFilter& filter, const PixelBlock& block,
-                            int sample, std::uint64_t seed) {
-  check_block(block);
+void PrimaryBlock::clear() {
   sobol_.clear();
   count_ = 0;
+  blocks_ = 0;
+}
+
+void PrimaryBlock::generate(const PinholeCamera& camera, const PixelFilter& filter, const PixelBlock& block,
+                            int sample, std::uint64_t seed) {
+  clear();
+  add(camera, filter, block, sample, seed);
+}
+
+void PrimaryBlock::add(const PinholeCamera& camera, const PixelFilter& filter, const PixelBlock& block, int sample,
+                       std::uint64_t seed) {
+  check_block(block);
+  if (blocks_ == kWavefrontBlocks)
+    throw std::invalid_argument("primary block: more than " + std::to_string(kWavefrontBlocks) + " blocks");
+  starts_[static_cast<std::size_t>(blocks_)] = count_;
   for (int y = block.y0; y < block.y1; ++y) {
     for (int x = block.x0; x < block.x1; ++x) {
       SobolSampler& sampler = sobol_.emplace_back(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y),
@@ -40,12 +53,16 @@ void PrimaryBlock::generate(const PinholeCamera& camera, const PixelFilter& filt
           camera.generate(static_cast<float>(x) + 0.5f + offset.x, static_cast<float>(y) + 0.5f + offset.y, lens);
     }
   }
+  starts_[static_cast<std::size_t>(++blocks_)] = count_;
 }
 
 std::chrono::steady_clock::duration PrimaryBlock::trace(const Accelerator& accel, TraceMode mode) {
   const auto start = std::chrono::steady_clock::now();
   if (mode == TraceMode::Packet) {
-    accel.intersect_packet(rays_.data(), hits_.data(), count_);
+    for (int b = 0; b < blocks_; ++b) {
+      const int first = block_start(b);
+      accel.intersect_packet(rays_.data() + first, hits_.data() + first, block_start(b + 1) - first);
+    }
   } else {
     for (std::size_t i = 0; i < static_cast<std::size_t>(count_); ++i) hits_[i] = accel.intersect(rays_[i]);
   }

@@ -81,8 +81,8 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
   // scratch, so the render loop allocates nothing once warm.
   tbb::enumerable_thread_specific<PrimaryBlock> primary_blocks;
   tbb::enumerable_thread_specific<PathIntegrator::Scratch> path_scratch;
-  // The radiance of every camera ray of a block: the path tracer advances the block's
-  // paths together (PathIntegrator::radiance_block), the others shade one pixel at a time.
+  // The radiance of every camera ray of a wavefront: the path tracer advances its paths
+  // together (PathIntegrator::radiance_block), the others shade one pixel at a time.
   auto shade_block = [&](PrimaryBlock& primary, glm::vec3* L, std::uint64_t& rays) {
     const int n = primary.size();
     if (settings.integrator == IntegratorKind::Path) {
@@ -108,27 +108,35 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
     return false;
   };
 
-  // One pass: sample `s` of every pixel, block by block, each block's camera rays traced
-  // together (a packet or one by one) and then shaded with each pixel's own sampler.
+  // One pass: sample `s` of every pixel, a wavefront of up to kWavefrontBlocks blocks of the
+  // tile at a time, each block's camera rays traced together (a packet or one by one), then
+  // all of them shaded, each pixel with its own sampler. The stop flag is read before each
+  // wavefront.
   int s = 0;
   auto render_tile = [&](const Tile& tile) {
     std::uint64_t rays = 0;  // per tile, added to the totals once
     std::uint64_t primary_rays = 0;
     Clock::duration primary_time{0};
     PrimaryBlock& primary = primary_blocks.local();
-    std::array<glm::vec3, kBlockPixels> L;
-    for (const PixelBlock& block : make_blocks(tile)) {
+    std::array<glm::vec3, kWavefrontPixels> L;
+    const std::vector<PixelBlock> blocks = make_blocks(tile);
+    for (std::size_t first = 0; first < blocks.size(); first += kWavefrontBlocks) {
       if (must_stop()) break;
-      const int n = block.pixel_count();
-      primary.generate(camera, filter, block, s, settings.seed);
+      const std::size_t last = std::min(blocks.size(), first + kWavefrontBlocks);
+      primary.clear();
+      for (std::size_t b = first; b < last; ++b) primary.add(camera, filter, blocks[b], s, settings.seed);
       primary_time += primary.trace(accel, settings.mode);
-      primary_rays += static_cast<std::uint64_t>(n);
+      primary_rays += static_cast<std::uint64_t>(primary.size());
       shade_block(primary, L.data(), rays);
-      for (int i = 0; i < n; ++i) {
-        const std::size_t p = static_cast<std::size_t>(block.y0 + i / block.width()) * settings.width +
-                              static_cast<std::size_t>(block.x0 + i % block.width());
-        sum[p] += glm::dvec3(L[static_cast<std::size_t>(i)]);
-        ++count[p];
+      for (std::size_t b = first; b < last; ++b) {
+        const PixelBlock& block = blocks[b];
+        const glm::vec3* block_L = L.data() + primary.block_start(static_cast<int>(b - first));
+        for (int i = 0; i < block.pixel_count(); ++i) {
+          const std::size_t p = static_cast<std::size_t>(block.y0 + i / block.width()) * settings.width +
+                                static_cast<std::size_t>(block.x0 + i % block.width());
+          sum[p] += glm::dvec3(block_L[i]);
+          ++count[p];
+        }
       }
     }
     total_rays.fetch_add(rays + primary_rays, std::memory_order_relaxed);

@@ -181,6 +181,38 @@ TEST(PrimaryBlock, RaysSamplersAndHitsMatchTracingOnePixelAtATime) {
   }
 }
 
+// A wavefront of several blocks holds each block's rays, samplers and hits exactly as the
+// block alone gives them, in the order added, and traces each block as its own packet.
+TEST(PrimaryBlock, AddedBlocksAreEachTheBlockAloneAndOnePacketEach) {
+  const KdTree kd(spheres().triangles);
+  const PinholeCamera cam = PinholeCamera::from_desc(spheres().cameras.at(0), 37, 29);
+  const std::vector<PixelBlock> blocks = {{0, 0, 8, 8}, {32, 8, 37, 15}, {8, 0, 16, 8}, {30, 28, 31, 29}};
+  ASSERT_EQ(static_cast<int>(blocks.size()), kWavefrontBlocks);
+  const CountingAccelerator counted(kd);
+  PrimaryBlock wave;
+  wave.generate(cam, PixelFilter::box(), {16, 16, 24, 24}, 1, 7);  // cleared by clear()
+  wave.clear();
+  for (const PixelBlock& b : blocks) wave.add(cam, PixelFilter::box(), b, 2, 7);
+  wave.trace(counted, TraceMode::Packet);
+  EXPECT_EQ(counted.packet_calls.load(), blocks.size());
+  ASSERT_EQ(wave.block_count(), kWavefrontBlocks);
+  EXPECT_THROW(wave.add(cam, PixelFilter::box(), blocks[0], 2, 7), std::invalid_argument);
+  int at = 0;
+  for (int b = 0; b < wave.block_count(); ++b) {
+    PrimaryBlock alone;
+    alone.generate(cam, PixelFilter::box(), blocks[static_cast<std::size_t>(b)], 2, 7);
+    alone.trace(kd, TraceMode::Single);
+    ASSERT_EQ(wave.block_start(b), at);
+    ASSERT_EQ(wave.block_start(b + 1) - at, alone.size());
+    for (int i = 0; i < alone.size(); ++i, ++at) {
+      EXPECT_EQ(std::memcmp(&wave.ray(at), &alone.ray(i), sizeof(Ray)), 0) << "block " << b << " ray " << i;
+      EXPECT_EQ(std::memcmp(&wave.hit(at), &alone.hit(i), sizeof(Hit)), 0) << "block " << b << " ray " << i;
+      EXPECT_EQ(wave.sampler(at).next1(), alone.sampler(i).next1()) << "block " << b << " ray " << i;
+    }
+  }
+  EXPECT_EQ(wave.size(), at);
+}
+
 TEST(PrimaryBlock, RefusesEmptyOrOversizedBlocks) {
   const PinholeCamera cam = PinholeCamera::from_desc(spheres().cameras.at(0), 37, 29);
   PrimaryBlock primary;

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "accel/kd_tree.h"
+#include "render/primary_block.h"
 #include "render/renderer.h"
 #include "scene/load_scene.h"
 #include "test_paths.h"
@@ -118,36 +119,42 @@ TEST(Progressive, StopMidPassAveragesWhatEachPixelGot) {
   EXPECT_GT(from_three, 0);
 }
 
-// What "stop within a few milliseconds" rests on: the stop flag is read before every 8x8
-// block, so once it is set no block starts, and each other thread finishes at most the
-// block it is in. With one block per tile, the callback that sets the flag after D tiles
-// of a pass leaves at most D + threads - 1 tiles of that pass done, whatever the load.
+// What "stop within a few milliseconds" rests on: the stop flag is read before every
+// wavefront (kWavefrontBlocks 8x8 blocks of a tile at most), so once it is set no wavefront
+// starts, and each other thread finishes at most the one it is in. With one wavefront per
+// tile (tiles of 8x8: one block; of 16x16: four), the callback that sets the flag after D
+// tiles of a pass leaves at most D + threads - 1 tiles of that pass done, whatever the load.
 TEST(Progressive, NoBlockStartsOnceTheStopFlagIsSet) {
+  static_assert(kWavefrontBlocks == 4, "16x16 tiles are one wavefront");
   const KdTree kd(cornell().triangles);
-  for (const int threads : {1, 2, 4}) {
-    for (const std::size_t d : {1u, 5u, 11u}) {
-      std::atomic<int> stop{0};
-      RenderControl control;
-      control.stop = &stop;
-      RenderSettings s = settings(1 << 20, threads);
-      s.width = 48;
-      s.height = 40;  // 6 x 5 tiles of 8 x 8, one block each
-      const std::size_t tiles = 30, pass_of_stop = 2;
-      RenderStats stats;
-      render(
-          kd, s, stats,
-          [&](std::size_t done, std::size_t) {
-            if (done == pass_of_stop * tiles + d) stop.store(2);
-          },
-          control);
-      ASSERT_TRUE(stats.stopped);
-      EXPECT_EQ(stats.passes, static_cast<int>(pass_of_stop));
-      EXPECT_EQ(stats.min_spp, pass_of_stop);
-      // Pixels of the stopped pass: whole blocks, at most D + threads - 1 of them.
-      const std::size_t extra = 64 * (d + static_cast<std::size_t>(threads) - 1);
-      EXPECT_LE(stats.max_spp, pass_of_stop + 1);
-      EXPECT_LE(stats.pixels_past_min_spp, extra) << threads << " threads, stop after " << d << " tiles";
-      EXPECT_GE(stats.pixels_past_min_spp, 64 * d) << "the tiles reported done were rendered";
+  for (const int tile : {8, 16}) {
+    for (const int threads : {1, 2, 4}) {
+      for (const std::size_t d : {1u, 5u, 11u}) {
+        std::atomic<int> stop{0};
+        RenderControl control;
+        control.stop = &stop;
+        RenderSettings s = settings(1 << 20, threads);
+        s.tile_size = tile;
+        s.width = 6 * tile;
+        s.height = 5 * tile;  // 6 x 5 tiles, one wavefront each
+        const std::size_t tiles = 30, pass_of_stop = 2, tile_pixels = static_cast<std::size_t>(tile * tile);
+        RenderStats stats;
+        render(
+            kd, s, stats,
+            [&](std::size_t done, std::size_t) {
+              if (done == pass_of_stop * tiles + d) stop.store(2);
+            },
+            control);
+        ASSERT_TRUE(stats.stopped);
+        EXPECT_EQ(stats.passes, static_cast<int>(pass_of_stop));
+        EXPECT_EQ(stats.min_spp, pass_of_stop);
+        // Pixels of the stopped pass: whole tiles, at most D + threads - 1 of them.
+        const std::size_t extra = tile_pixels * (d + static_cast<std::size_t>(threads) - 1);
+        EXPECT_LE(stats.max_spp, pass_of_stop + 1);
+        EXPECT_LE(stats.pixels_past_min_spp, extra)
+            << tile << "-pixel tiles, " << threads << " threads, stop after " << d << " tiles";
+        EXPECT_GE(stats.pixels_past_min_spp, tile_pixels * d) << "the tiles reported done were rendered";
+      }
     }
   }
 }

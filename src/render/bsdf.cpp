@@ -108,14 +108,14 @@ bool Bsdf::is_delta_only() const {
 
 // The colour that multiplies specular_brdf: metal's conductor_fresnel and the dielectric's
 // specular * fr, mixed by metallic (spec B.2, KHR_materials_specular).
-glm::vec3 Bsdf::specular_tint(float cos_wo_h, const glm::vec3& fr) const {
+inline glm::vec3 Bsdf::specular_tint(float cos_wo_h, const glm::vec3& fr) const {
   const glm::vec3 dielectric = (1.0f - metallic_) * specular_ * fr;
   // No metal: skipping its (finite) term adds exactly 0.
   return metallic_ > 0.0f ? metallic_ * schlick_fresnel(base_color_, cos_wo_h) + dielectric : dielectric;
 }
 
 // Weight of the dielectric's base (diffuse + transmission): (1 - metallic)(1 - specular max(fr)).
-float Bsdf::base_weight(const glm::vec3& fr) const {
+inline float Bsdf::base_weight(const glm::vec3& fr) const {
   return (1.0f - metallic_) * (1.0f - specular_ * max_component(fr));
 }
 
@@ -127,12 +127,16 @@ Bsdf::Outgoing Bsdf::outgoing(const glm::vec3& wo) const {
   out.valid = true;
   out.flipped = out.lo.z < 0.0f;
   if (out.flipped) out.lo = mirror_z(out.lo);
-  if (!ggx_.smooth()) out.lambda_o = ggx_.lambda(out.lo);
+  if (!ggx_.smooth()) {
+    out.lambda_o = ggx_.lambda(out.lo);
+    out.g1_o = 1.0f / (1.0f + out.lambda_o);
+  }
+  out.inv_4cos_o = 1.0f / (4.0f * out.lo.z);
   out.lobes = choose_lobes(out.lo);
   return out;
 }
 
-glm::vec3 Bsdf::to_oriented_local(const Outgoing& out, const glm::vec3& wi) const {
+inline glm::vec3 Bsdf::to_oriented_local(const Outgoing& out, const glm::vec3& wi) const {
   const glm::vec3 li = frame_.to_local(wi);
   return out.flipped ? mirror_z(li) : li;
 }
@@ -142,7 +146,7 @@ Bsdf::InterfaceSplit Bsdf::interface_split(const glm::vec3& wo, const glm::vec3&
   return interface_split(wo, m, cos_wo_m, fresnel_.reflectance(cos_wo_m, fresnel_eta_));
 }
 
-Bsdf::InterfaceSplit Bsdf::interface_split(const glm::vec3& wo, const glm::vec3& m, float cos_wo_m,
+inline Bsdf::InterfaceSplit Bsdf::interface_split(const glm::vec3& wo, const glm::vec3& m, float cos_wo_m,
                                            const glm::vec3& fr) const {
   const float r = has_reflection_ ? average(specular_tint(cos_wo_m, fr)) : 0.0f;
   const bool passes = thin_walled_ || refract_about(wo, m, eta_).has_value();  // no TIR on a thin wall
@@ -174,8 +178,7 @@ Bsdf::LobeChoice Bsdf::choose_lobes(const glm::vec3& wo) const {
 BsdfEval Bsdf::eval_local(const Outgoing& out, const glm::vec3& wi) const {
   const glm::vec3& wo = out.lo;
   const LobeChoice& lobes = out.lobes;
-  // Smith G1(wo) and G2(wo, w) with Lambda(wo) from `out` (microfacet.h's formulas).
-  const auto g1_o = [&] { return 1.0f / (1.0f + out.lambda_o); };
+  // Smith G2(wo, w) with Lambda(wo) from `out` (microfacet.h's formulas).
   const auto g2 = [&](const glm::vec3& w) { return 1.0f / (1.0f + out.lambda_o + ggx_.lambda(w)); };
   BsdfEval e;
   if (wi.z > 0.0f) {
@@ -188,7 +191,7 @@ BsdfEval Bsdf::eval_local(const Outgoing& out, const glm::vec3& wi) const {
       const float d = ggx_.d(h);
       // specular_brdf * cos(wi) = D G2 / (4 |n.wo|)
       const glm::vec3 tint = specular_tint(cos_wo_h, fr);
-      e.f += tint * (d * g2(wi) / (4.0f * wo.z));
+      e.f += tint * (d * g2(wi) * out.inv_4cos_o);
       if (lobes.interface > 0.0f) {
         // D_wo(h) / (4 wo.h) with D_wo(h) = G1(wo) (wo.h) D(h) / wo.z (Heitz 2018), times the
         // probability of reflecting rather than refracting: without transmission,
@@ -196,7 +199,7 @@ BsdfEval Bsdf::eval_local(const Outgoing& out, const glm::vec3& wi) const {
         const float reflect = split_at_normal_     ? interface_split(wo, glm::vec3(0.0f, 0.0f, 1.0f)).reflect
                               : !has_transmission_ ? (average(tint) > 0.0f ? 1.0f : 0.0f)
                                                    : interface_split(wo, h, cos_wo_h, fr).reflect;
-        e.pdf += lobes.interface * reflect * g1_o() * d / (4.0f * wo.z);
+        e.pdf += lobes.interface * reflect * out.g1_o * d * out.inv_4cos_o;
       }
     }
     if (has_diffuse_) {
@@ -213,10 +216,10 @@ BsdfEval Bsdf::eval_local(const Outgoing& out, const glm::vec3& wi) const {
     const float cos_wo_h = glm::dot(wo, h);
     const glm::vec3 fr = fresnel_.reflectance(cos_wo_h, fresnel_eta_);
     const float d = ggx_.d(h);
-    const float btdf_cos = d * g2(wr) / (4.0f * wo.z);
+    const float btdf_cos = d * g2(wr) * out.inv_4cos_o;
     e.f += (base_weight(fr) * transmission_ * btdf_cos) * base_color_;
     if (lobes.interface > 0.0f)
-      e.pdf += lobes.interface * interface_split(wo, h, cos_wo_h, fr).refract * g1_o() * d / (4.0f * wo.z);
+      e.pdf += lobes.interface * interface_split(wo, h, cos_wo_h, fr).refract * out.g1_o * d * out.inv_4cos_o;
   } else if (wi.z < 0.0f && has_transmission_ && !smooth_transmission_) {
     const auto h = refraction_half_vector(wo, wi, eta_);
     if (!h) return e;

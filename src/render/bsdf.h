@@ -158,6 +158,8 @@ class Bsdf {
     bool flipped = false;  // wo was below the shading frame's tangent plane
     bool valid = false;    // false when wo lies in the tangent plane (or is NaN): nothing scatters
     float lambda_o = 0.0f;  // Smith Lambda(lo), for rough lobes
+    float g1_o = 0.0f;      // Smith G1(lo) = 1 / (1 + lambda_o)
+    float inv_4cos_o = 0.0f;  // 1 / (4 lo.z): the reflection lobe's f and density share it
     LobeChoice lobes;
   };
 

@@ -251,11 +251,11 @@ glm::vec3 Bsdf::eval(const glm::vec3& wo, const glm::vec3& wi) const { return ev
 
 float Bsdf::pdf(const glm::vec3& wo, const glm::vec3& wi) const { return evaluate(wo, wi).pdf; }
 
-std::optional<BsdfSample> Bsdf::sample(const glm::vec3& wo, float u_lobe, glm::vec2 u) const {
-  return sample(outgoing(wo), u_lobe, u);
+std::optional<BsdfSample> Bsdf::sample(const glm::vec3& wo, float u_split, glm::vec2 u) const {
+  return sample(outgoing(wo), u_split, u);
 }
 
-std::optional<BsdfSample> Bsdf::sample(const Outgoing& out, float u_lobe, glm::vec2 u) const {
+std::optional<BsdfSample> Bsdf::sample(const Outgoing& out, float u_split, glm::vec2 u) const {
   if (!out.valid) return std::nullopt;
   const glm::vec3& lo = out.lo;
   const bool flipped = out.flipped;
@@ -266,9 +266,11 @@ std::optional<BsdfSample> Bsdf::sample(const Outgoing& out, float u_lobe, glm::v
   const glm::vec3 n(0.0f, 0.0f, 1.0f);
 
   glm::vec3 wi(0.0f);
-  if (u_lobe < lobes.interface || (lobes.diffuse == 0.0f && lobes.interface > 0.0f)) {
-    // Reuse u_lobe, rescaled to [0, 1), for the choice between reflection and refraction.
-    const float u_split = std::min(u_lobe / lobes.interface, 0.99999994f);
+  // The lobe is chosen by u.x, which is then rescaled to [0, 1) within the chosen lobe's
+  // interval: each lobe's directions come from a stratified part of the 2D set.
+  constexpr float kBelowOne = 0.99999994f;
+  if (u.x < lobes.interface || (lobes.diffuse == 0.0f && lobes.interface > 0.0f)) {
+    if (lobes.interface < 1.0f) u.x = std::min(u.x / lobes.interface, kBelowOne);
     if (split_at_normal_) {
       const InterfaceSplit split = interface_split(lo, n);
       if (u_split < split.reflect) {
@@ -308,6 +310,7 @@ std::optional<BsdfSample> Bsdf::sample(const Outgoing& out, float u_lobe, glm::v
       }
     }
   } else if (lobes.diffuse > 0.0f) {
+    if (lobes.interface > 0.0f) u.x = std::min((u.x - lobes.interface) / lobes.diffuse, kBelowOne);
     wi = sample_cosine_hemisphere(u);
   } else {
     return std::nullopt;  // nothing scatters

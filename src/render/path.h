@@ -7,7 +7,7 @@
 //  - KHR_materials_volume: inside a transmissive volume, Beer-Lambert attenuation
 //    exp(-sigma_a t) with sigma_a = -ln(attenuationColor) / attenuationDistance;
 //  - Russian roulette from the fourth bounce on, with survival probability
-//    min(1, max throughput component) (at least 5 %).
+//    min(1, sqrt(max throughput component)) (at least 5 %).
 // Emission counts on the front side of a triangle only (the side lights.h samples).
 // alphaMode is ignored (every triangle is opaque). The background is black unless an
 // environment is given.

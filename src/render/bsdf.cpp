@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include <glm/common.hpp>
@@ -32,6 +33,19 @@ glm::vec3 sample_cosine_hemisphere(glm::vec2 u) {
 }
 
 glm::vec3 mirror_z(const glm::vec3& v) { return {v.x, v.y, -v.z}; }
+
+// normalize(a + b) for two unit directions above the surface (a.z, b.z > 0), also where
+// they are nearly opposite and grazing: their sum's squared length then underflows, and
+// glm::normalize would give NaN; the sum is rescaled first (exactly, by a power of two).
+glm::vec3 half_vector(const glm::vec3& a, const glm::vec3& b) {
+  glm::vec3 sum = a + b;
+  float len2 = glm::dot(sum, sum);
+  if (!(len2 >= std::numeric_limits<float>::min())) {
+    sum *= 0x1p60f;
+    len2 = glm::dot(sum, sum);
+  }
+  return sum * (1.0f / std::sqrt(len2));
+}
 
 }  // namespace
 
@@ -131,7 +145,9 @@ Bsdf::Outgoing Bsdf::outgoing(const glm::vec3& wo) const {
     out.lambda_o = ggx_.lambda(out.lo);
     out.g1_o = 1.0f / (1.0f + out.lambda_o);
   }
-  out.inv_4cos_o = 1.0f / (4.0f * out.lo.z);
+  // Clamped at the smallest normal float: for a subnormal lo.z, Lambda(lo) is infinite and
+  // G1, G2 are 0, and 0 times a finite factor stays 0 (an infinite one would give NaN).
+  out.inv_4cos_o = 1.0f / (4.0f * std::max(out.lo.z, std::numeric_limits<float>::min()));
   out.lobes = choose_lobes(out.lo);
   return out;
 }
@@ -184,7 +200,7 @@ BsdfEval Bsdf::eval_local(const Outgoing& out, const glm::vec3& wi) const {
   if (wi.z > 0.0f) {
     const bool rough_reflection = has_reflection_ && !ggx_.smooth();
     if (!has_diffuse_ && !rough_reflection) return e;
-    const glm::vec3 h = glm::normalize(wo + wi);
+    const glm::vec3 h = half_vector(wo, wi);
     const float cos_wo_h = glm::dot(wo, h);
     const glm::vec3 fr = fresnel_.reflectance(cos_wo_h, fresnel_eta_);
     if (rough_reflection) {
@@ -212,7 +228,7 @@ BsdfEval Bsdf::eval_local(const Outgoing& out, const glm::vec3& wi) const {
     // Its density is the reflection density of the mirrored direction (mirroring preserves
     // solid angle).
     const glm::vec3 wr = mirror_z(wi);
-    const glm::vec3 h = glm::normalize(wo + wr);
+    const glm::vec3 h = half_vector(wo, wr);
     const float cos_wo_h = glm::dot(wo, h);
     const glm::vec3 fr = fresnel_.reflectance(cos_wo_h, fresnel_eta_);
     const float d = ggx_.d(h);

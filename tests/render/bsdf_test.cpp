@@ -434,6 +434,8 @@ TEST(BsdfRobustness, NoNanOrInfAnywhere) {
   const ShadingFrame frame = ShadingFrame::from_normal({0.0f, 0.0f, 1.0f});
   std::vector<glm::vec3> dirs = {{0, 0, 1},  {0, 0, -1}, {1, 0, 0}, {0, 1, 0}, {-1, 0, 0}};
   for (float z : {1e-7f, 1e-4f, -1e-7f, -1e-4f, 0.9999999f}) dirs.push_back(glm::normalize(glm::vec3(1.0f, 0.3f, z)));
+  // Subnormal heights above and below the tangent plane.
+  for (float z : {1e-40f, -1e-40f}) dirs.push_back(glm::vec3(0.9578263f, 0.2873479f, z));
   SplitMix64 rng(10);
   for (int i = 0; i < 20; ++i) dirs.push_back(uniform_sphere(rng));
   const std::vector<float> us = {0.0f, 1e-7f, 0.5f, 0.99999994f};

@@ -40,17 +40,18 @@ class PathIntegrator {
   PathIntegrator(const Scene& scene, const Accelerator& accel, const AreaLights& area_lights,
                  const Environment* environment, int max_depth, int light_samples = 1);
 
-  // Memory radiance_block reuses from block to block (keep one per thread): once it has
-  // held the largest block, the bounce loop allocates nothing.
+  // Memory radiance_block reuses from call to call (keep one per thread): once it has
+  // held the largest wavefront, the bounce loop allocates nothing.
   struct Scratch;
 
-  // The paths of `count` camera rays with their closest hits (a block of pixels), advanced
-  // together bounce by bounce: each bounce shades every live path, then traces the
-  // block's shadow rays as one batch and its continuation rays as another (the wavefront
-  // formulation of Laine, Karras & Aila 2013, "Megakernels Considered Harmful", on a CPU
-  // block rather than a GPU-wide queue). radiance[i] is the radiance arriving along
-  // -rays[i].dir; each path draws from samplers[i] only, so it is the same whatever the
-  // block holds. `ray_count` is increased by every ray traced here (not the camera rays).
+  // The paths of `count` camera rays with their closest hits (the renderer passes a
+  // wavefront: up to kWavefrontBlocks 8x8 blocks of pixels), advanced together bounce by
+  // bounce: each bounce shades every live path, then traces the wavefront's shadow rays as
+  // one batch and its continuation rays as another (the wavefront formulation of Laine,
+  // Karras & Aila 2013, "Megakernels Considered Harmful", on a CPU tile rather than a
+  // GPU-wide queue). radiance[i] is the radiance arriving along -rays[i].dir; each path
+  // draws from samplers[i] only, so it is the same whatever the wavefront holds.
+  // `ray_count` is increased by every ray traced here (not the camera rays).
   void radiance_block(const Ray* rays, const Hit* hits, SobolSampler* samplers, int count, glm::vec3* radiance,
                       std::uint64_t& ray_count, Scratch& scratch) const;
 

@@ -11,7 +11,8 @@
 namespace lancer {
 
 struct RenderControl {
-  // Non-zero: stop within a few milliseconds (checked between 8x8 pixel blocks). The
+  // Non-zero: stop within a few milliseconds (checked before each wavefront of at most four
+  // 8x8 pixel blocks). The
   // image then averages, per pixel, the samples finished so far.
   const std::atomic<int>* stop = nullptr;
   // > 0: stop starting new work once this many seconds have passed since the start.

@@ -77,7 +77,7 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
     whitted.emplace(scene, accel, *area_lights, settings.max_depth, settings.light_samples);
   const PixelFilter filter =
       settings.filter == PixelFilterType::Gaussian ? PixelFilter::gaussian() : PixelFilter::box();
-  // Per thread, reused from block to block: the block's camera rays and the path tracer's
+  // Per thread, reused from wavefront to wavefront: its camera rays and the path tracer's
   // scratch, so the render loop allocates nothing once warm.
   tbb::enumerable_thread_specific<PrimaryBlock> primary_blocks;
   tbb::enumerable_thread_specific<PathIntegrator::Scratch> path_scratch;

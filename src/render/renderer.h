@@ -27,8 +27,9 @@ using ProgressCallback = std::function<void(std::size_t tiles_done, std::size_t 
 // invalid settings. Fills stats: seconds, rays (every ray traced), primary_rays,
 // primary_seconds and, for the path tracer, its batch counts. Camera rays are traced in
 // blocks of at most 8x8 pixels inside each tile, as packets or one by one as settings.mode
-// says; the image is the same either way. The path tracer then advances each block's paths
-// together (PathIntegrator::radiance_block); the other integrators shade pixel by pixel.
+// says; the image is the same either way. The path tracer then advances the paths of up to
+// kWavefrontBlocks blocks of a tile together (PathIntegrator::radiance_block); the other
+// integrators shade pixel by pixel.
 ImageRGB render_image(const Scene& scene, const Accelerator& accel, const PinholeCamera& camera,
                       const RenderSettings& settings, RenderStats& stats, const ProgressCallback& progress = {},
                       const RenderControl& control = {});

@@ -4,7 +4,8 @@
 // its own; --checkpoint writes the outputs while it runs.
 //
 // How soon it exits is the renderer's guarantee, tested without a clock in
-// tests/render/progressive_test.cpp (the stop flag is read before every 8x8 block). Here
+// tests/render/progressive_test.cpp (the stop flag is read before every wavefront of at
+// most four 8x8 blocks). Here
 // the bound is only "it did not hang": an idle machine exits in about 0.2 s, and kPromptExit
 // leaves room for any load a shared machine sees.
 #include <signal.h>

@@ -110,9 +110,9 @@ SampleStats draw_samples(const Bsdf& bsdf, const glm::vec3& wo, const ShadingFra
   st.histogram.assign(bins.size(), 0.0);
   SplitMix64 rng(seed);
   for (int i = 0; i < n; ++i) {
-    const float u_lobe = rng.uniform();
+    const float u_split = rng.uniform();
     const glm::vec2 u(rng.uniform(), rng.uniform());
-    const auto s = bsdf.sample(wo, u_lobe, u);
+    const auto s = bsdf.sample(wo, u_split, u);
     if (!s) {
       st.failed += 1.0;
       continue;

@@ -47,7 +47,7 @@ float max_abs_diff(const glm::vec3& a, const glm::vec3& b) {
 
 // ---- Smooth thin walls ------------------------------------------------------------------
 
-// Every delta sample of a smooth thin wall, found by sweeping u_lobe: the transmitted one
+// Every delta sample of a smooth thin wall, found by sweeping u_split: the transmitted one
 // keeps the direction and carries (1 - F) baseColor, the reflected one mirrors and carries
 // F, F being the exact Fresnel reflectance of ior 1.5 entered from air, on either side.
 TEST(ThinWallSmooth, PassesStraightThroughWithOneMinusF) {
@@ -80,7 +80,7 @@ TEST(ThinWallSmooth, PassesStraightThroughWithOneMinusF) {
           EXPECT_EQ(average(bsdf.eval(wo, s->wi)), 0.0f);
           EXPECT_EQ(bsdf.pdf(wo, s->wi), 0.0f);
         }
-        // u_lobe picks the lobes in proportion to their weights (1/1000 of resolution).
+        // u_split picks the lobes in proportion to their weights (1/1000 of resolution).
         const float t = average((1.0f - F) * color);
         EXPECT_NEAR(p_transmit, t / (F + t), 1.5e-3) << theta;
         EXPECT_NEAR(p_reflect + p_transmit, 1.0, 1e-9);
@@ -235,9 +235,9 @@ TEST_P(ThinWallSampling, ChiSquareAndWhiteFurnace) {
   double failed = 0.0, sum_w = 0.0, sum_w2 = 0.0;
   SplitMix64 rng(0x7417 + c.name.size() * 131 + static_cast<std::uint64_t>(c.theta_deg));
   for (int i = 0; i < kSamples; ++i) {
-    const float u_lobe = rng.uniform();
+    const float u_split = rng.uniform();
     const glm::vec2 u(rng.uniform(), rng.uniform());
-    const auto s = bsdf.sample(wo, u_lobe, u);
+    const auto s = bsdf.sample(wo, u_split, u);
     if (!s) {
       failed += 1.0;
       continue;

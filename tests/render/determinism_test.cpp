@@ -53,8 +53,13 @@ TEST_P(CornellScenes, BitIdenticalAcrossThreadsAndTiles) {
   const ImageRGB one = c.render(1, 16, 7, size());
   const ImageRGB two = c.render(2, 16, 7, size());
   const ImageRGB odd_tiles = c.render(2, 5, 7, size());
+  // Tiles of 9 and 25 blocks: several wavefronts of four blocks per tile, the last partial.
+  const ImageRGB wide_tiles = c.render(2, 24, 7, size());
+  const ImageRGB whole_image = c.render(1, 64, 7, size());
   EXPECT_TRUE(bitwise_equal(one, two));
   EXPECT_TRUE(bitwise_equal(one, odd_tiles));
+  EXPECT_TRUE(bitwise_equal(one, wide_tiles));
+  EXPECT_TRUE(bitwise_equal(one, whole_image));
 }
 
 TEST_P(CornellScenes, SeedChangesTheImage) {

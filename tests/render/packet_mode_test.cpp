@@ -224,13 +224,14 @@ TEST(PrimaryBlock, RefusesEmptyOrOversizedBlocks) {
 class PacketModeIsas : public ::testing::TestWithParam<Isa> {};
 
 // The kd-tree's packet traversal and its single-ray traversal give the same image, bit for
-// bit, with every integrator, partial tiles (16 and 12 on a 37x29 image) and several threads.
+// bit, with every integrator, partial tiles (16, 12 and 40 on a 37x29 image: 40 is one tile
+// of 20 blocks, five wavefronts) and several threads.
 TEST_P(PacketModeIsas, PacketAndSingleImagesAreBitIdentical) {
   const KdTree accel(spheres().triangles, {}, GetParam());
   for (IntegratorKind integrator : kIntegrators) {
     const ImageRGB reference = render(accel, odd_settings(integrator, TraceMode::Single, 16, 1));
     EXPECT_GT(sum_of(reference), 0.0) << integrator_name(integrator) << ": a black image proves nothing";
-    for (int tile_size : {16, 12}) {
+    for (int tile_size : {16, 12, 40}) {
       for (TraceMode mode : {TraceMode::Packet, TraceMode::Single}) {
         const RenderSettings s = odd_settings(integrator, mode, tile_size, 2);
         EXPECT_TRUE(bitwise_equal(render(accel, s), reference)) << trace_mode_name(mode) << ", " << describe(s);

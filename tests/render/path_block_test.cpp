@@ -1,6 +1,6 @@
-// The path tracer's wavefront: the paths of a block advanced together give, lane by lane,
-// exactly the radiance of each path traced alone, whatever the block holds; and the batch
-// counts add up to the rays traced.
+// The path tracer's wavefront: the paths of one or more blocks advanced together give, lane
+// by lane, exactly the radiance of each path traced alone, whatever the wavefront holds; and
+// the batch counts add up to the rays traced.
 #include <cstring>
 #include <vector>
 
@@ -20,7 +20,8 @@ namespace {
 bool same_bits(const glm::vec3& a, const glm::vec3& b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
 // Every lane of a block against the same path alone, with the environment, two light
-// samples and the punctual-free Cornell lights; blocks of 64, of 7 and of 1.
+// samples and the punctual-free Cornell lights; blocks of 64, of 7 and of 1, and a
+// wavefront of four blocks (256 paths).
 TEST(PathBlock, EachLaneIsThePathTracedAlone) {
   const Scene scene = load_scene(test::scenes_dir() / "cornell-box-spheres.gltf");
   const KdTree kd(scene.triangles);
@@ -30,9 +31,15 @@ TEST(PathBlock, EachLaneIsThePathTracedAlone) {
   for (const int light_samples : {1, 2}) {
     const PathIntegrator path(scene, kd, lights, &sky, 16, light_samples);
     PathIntegrator::Scratch scratch;
-    for (const PixelBlock& block : {PixelBlock{8, 16, 16, 24}, PixelBlock{30, 3, 37, 4}, PixelBlock{20, 20, 21, 21}}) {
+    // Single blocks, and a whole wavefront of kWavefrontBlocks blocks (256 paths).
+    const std::vector<std::vector<PixelBlock>> wavefronts = {
+        {{8, 16, 16, 24}},
+        {{30, 3, 37, 4}},
+        {{20, 20, 21, 21}},
+        {{0, 0, 8, 8}, {8, 0, 16, 8}, {0, 8, 8, 16}, {8, 8, 16, 16}}};
+    for (const std::vector<PixelBlock>& blocks : wavefronts) {
       PrimaryBlock primary;
-      primary.generate(camera, PixelFilter::box(), block, 5, 9);
+      for (const PixelBlock& block : blocks) primary.add(camera, PixelFilter::box(), block, 5, 9);
       primary.trace(kd, TraceMode::Packet);
       std::vector<SobolSampler> alone(primary.samplers(), primary.samplers() + primary.size());
       std::vector<glm::vec3> together(static_cast<std::size_t>(primary.size()));
@@ -65,10 +72,13 @@ TEST(PathBlock, BatchCountsAddUpToTheRaysTraced) {
   const PathBatchStats& b = stats.path_batches;
   EXPECT_EQ(stats.primary_rays + b.continuation_rays + b.shadow_rays, stats.rays);
   EXPECT_GT(b.shadow_batches, 0u);
-  // One batch per bounce of a block: at most max_depth batches per block and pass.
-  const std::uint64_t blocks = 4 * 4 * 2;
-  EXPECT_GE(b.continuation_batches, blocks);
-  EXPECT_LE(b.continuation_batches, blocks * static_cast<std::uint64_t>(s.max_depth));
+  // One batch per bounce of a wavefront (a 16x16 tile: four blocks): at least one and at
+  // most max_depth per wavefront and pass.
+  static_assert(kWavefrontBlocks == 4, "a 16x16 tile is one wavefront");
+  ASSERT_EQ(s.tile_size, 16);
+  const std::uint64_t wavefronts = 2 * 2 * 2;  // 32x32 pixels in 16x16 tiles, 2 passes
+  EXPECT_GE(b.continuation_batches, wavefronts);
+  EXPECT_LE(b.continuation_batches, wavefronts * static_cast<std::uint64_t>(s.max_depth));
   EXPECT_LE(b.packet_rays, b.continuation_rays);
   // A block's first-bounce shadow rays towards the ceiling light are mostly of one octant.
   EXPECT_GT(b.shadow_packet_rays, b.shadow_rays / 10);

@@ -188,6 +188,9 @@ class Bsdf {
   BsdfEval evaluate(const Outgoing& out, const glm::vec3& wi) const;
   std::optional<BsdfSample> sample(const Outgoing& out, float u_split, glm::vec2 u) const;
 
+  // Whether sample() reads u_split: only an interface that can both reflect and refract
+  // (without transmission any u_split in [0, 1) gives the same sample).
+  bool reads_split() const { return has_transmission_; }
   bool has_delta() const;
   bool is_delta_only() const;
   bool entering() const { return entering_; }

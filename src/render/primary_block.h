@@ -27,9 +27,9 @@ namespace lancer {
 
 inline constexpr int kBlockSide = 8;
 inline constexpr int kBlockPixels = kBlockSide * kBlockSide;
-// Blocks of one tile the renderer shades as one wavefront (up to 256 paths). Measured with
-// the render benchmark's scenes (one thread, same image bytes): 4 blocks rather than 1
-// render the Cornell boxes 6-9 % faster; 16 were no better than 4 within the noise.
+// Blocks of one tile the renderer shades as one wavefront (up to 256 paths). Measured on
+// the two Cornell boxes (AVX-512, one thread, same image bytes): 4 blocks rather than 1
+// render them 6-9 % faster; 16 were no better than 4 within the noise.
 inline constexpr int kWavefrontBlocks = 4;
 inline constexpr int kWavefrontPixels = kWavefrontBlocks * kBlockPixels;
 

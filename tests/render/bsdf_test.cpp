@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numbers>
 #include <vector>
@@ -351,6 +352,37 @@ TEST(BsdfStratification, EachLobeKeepsItsPartOfTheTwoDimensionalSet) {
     for (std::size_t b = 0; b < band.size(); ++b)
       EXPECT_NEAR(band[b], diffuse / 16.0, 2.0) << "pixel " << pixel << ", band " << b;
   }
+}
+
+// The path tracer draws u_split only where reads_split() says sample() reads it: elsewhere
+// every u_split must give the same sample, bit for bit.
+TEST(BsdfStratification, SplitValueIsReadOnlyWhereTheBsdfSaysSo) {
+  const ShadingFrame frame = tilted_frame();
+  SplitMix64 rng(12);
+  int unread = 0, read = 0;
+  for (const BsdfInputs& in : assorted_materials()) {
+    for (bool entering : {true, false}) {
+      const Bsdf bsdf(in, frame, entering);
+      if (bsdf.reads_split()) {
+        ++read;
+        continue;
+      }
+      ++unread;
+      for (int i = 0; i < 500; ++i) {
+        const glm::vec3 wo = uniform_sphere(rng);
+        const glm::vec2 u(rng.uniform(), rng.uniform());
+        const auto a = bsdf.sample(wo, 0.0f, u), b = bsdf.sample(wo, rng.uniform(), u);
+        ASSERT_EQ(a.has_value(), b.has_value());
+        if (!a) continue;
+        ASSERT_EQ(std::memcmp(&a->wi, &b->wi, sizeof a->wi), 0);
+        ASSERT_EQ(std::memcmp(&a->weight, &b->weight, sizeof a->weight), 0);
+        ASSERT_EQ(a->pdf, b->pdf);
+        ASSERT_EQ(a->delta, b->delta);
+      }
+    }
+  }
+  EXPECT_GT(unread, 0);
+  EXPECT_GT(read, 0);
 }
 
 // ---- Reciprocity --------------------------------------------------------------------

@@ -56,6 +56,9 @@ json check_json(const SetCheck& c) {
             {"rays", c.rays},
             {"answered", c.answered}};
   if (c.packet_checked) j["packet_mismatches"] = c.packet_mismatches;
+  if (c.work_counted)
+    j["single_work_per_ray"] = {
+        {"inner_steps", c.steps_per_ray}, {"leaves", c.leaves_per_ray}, {"triangle_tests", c.tests_per_ray}};
   if (c.embree_checked) {
     j["embree_ties"] = c.embree_ties;
     j["embree_disagreements"] = c.embree_disagreements;

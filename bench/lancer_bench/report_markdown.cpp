@@ -104,6 +104,17 @@ void write_scenes(const BenchRun& run, std::ostream& out) {
   out << "\n";
 }
 
+const SetCheck* find_check(const SceneResult& s, const Row& r) {
+  for (const SetCheck& c : s.checks)
+    if (c.set == r.set && c.isa == r.isa) return &c;
+  return nullptr;
+}
+
+std::string work_cell(const SetCheck* c) {
+  if (c == nullptr || !c->work_counted) return "n/a";
+  return fixed(c->steps_per_ray, 1) + " / " + fixed(c->leaves_per_ray, 1) + " / " + fixed(c->tests_per_ray, 1);
+}
+
 void write_checks(const BenchRun& run, std::ostream& out) {
   out << "## Checks (before timing)\n\n";
   out << "Packet answers against single-ray answers, bit for bit; Lancer's single-ray answers against Embree's: the "
@@ -141,13 +152,14 @@ void write_throughput(const BenchRun& run, std::ostream& out) {
   if (embree)
     for (Mode m : modes)
       if (m != Mode::Embree) out << " " << mode_name(m) << " / embree |";
+  out << " single-ray work per ray: steps / leaves / tests |";
   out << "\n|---|---|--:|---|--:|";
   for (std::size_t i = 0; i < modes.size(); ++i) out << "--:|";
   if (embree) out << "---|";
   if (embree)
     for (Mode m : modes)
       if (m != Mode::Embree) out << "--:|";
-  out << "\n";
+  out << "--:|\n";
   for (const SceneResult& s : run.scenes)
     for (const Row& r : s.rows) {
       out << "| " << s.name << " | " << ray_set_name(r.set) << " | " << r.rays << " | " << isa_name(r.isa) << " | "
@@ -158,7 +170,7 @@ void write_throughput(const BenchRun& run, std::ostream& out) {
         if (embree)
           for (Mode m : modes)
             if (m != Mode::Embree) out << " |";
-        out << "\n";
+        out << " |\n";
         continue;
       }
       const ModeTiming* e = find_mode(r, Mode::Embree);
@@ -174,9 +186,12 @@ void write_throughput(const BenchRun& run, std::ostream& out) {
             const RateSummary rs = summarize(find_mode(r, m)->seconds, r.rays);
             out << " " << (es.median > 0.0 ? fixed(rs.median / es.median, 2) : "n/a") << " |";
           }
-      out << "\n";
+      out << " " << work_cell(find_check(s, r)) << " |\n";
     }
   out << "\n";
+  out << "Work per ray: of Lancer's single-ray kernel (intersect, or occluded for shadow rays), counted in one extra "
+         "pass: inner kd-tree nodes stepped through, leaves entered, triangles tested (a SIMD leaf test counts the "
+         "triangles in its lanes, not its width).\n";
   if (embree)
     out << "Embree: primary rays with rtcIntersect16 and RTC_INTERSECT_CONTEXT_FLAG_COHERENT, four 16-ray calls per "
            "8x8 tile; diffuse and shadow rays with whichever candidate call was fastest on one thread for that scene "

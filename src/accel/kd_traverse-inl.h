@@ -153,25 +153,21 @@ inline std::uint32_t descend(NodeWords n, const TravRay<Real>& tr, Real& tmin, R
   }
   const Real tp = (split - tr.org[a]) * tr.inv_dir[a];
   const Real s = tr.slack(tp);
+  const Real lo = tp - s, hi = tp + s;
   const std::uint32_t first = left + tr.negative[a];
   const std::uint32_t second = left + 1 - tr.negative[a];
-  const bool visit_first = tp + s >= tmin;
-  const bool visit_second = tp - s <= tmax;
-  if (visit_first && visit_second) {
-    const Real lo = tp - s;
-    stack[sp++] = {second, lo > tmin ? lo : tmin, tmax};
-    const Real hi = tp + s;
-    if (hi < tmax) tmax = hi;
-    return first;
-  }
-  if (visit_first) {
-    const Real hi = tp + s;
-    if (hi < tmax) tmax = hi;
-    return first;
-  }
-  const Real lo = tp - s;
-  if (lo > tmin) tmin = lo;
-  return second;
+  // Which cells the interval overlaps is close to a coin toss on incoherent rays, so the
+  // three cases are selects, not branches: the far cell's entry is always written and kept
+  // only when both cells are visited (at least one always is: lo <= hi and tmin <= tmax).
+  const bool visit_first = hi >= tmin;
+  const bool visit_second = lo <= tmax;
+  const Real far_min = lo > tmin ? lo : tmin;
+  const Real near_max = hi < tmax ? hi : tmax;
+  stack[sp] = {second, far_min, tmax};
+  sp += int(visit_first & visit_second);
+  tmin = visit_first ? tmin : far_min;
+  tmax = visit_first ? near_max : tmax;
+  return visit_first ? first : second;
 }
 
 // The watertight kernel's per-ray constants (WatertightRay, the same permutation and
@@ -358,8 +354,8 @@ Hit closest(const KdTreeView& tree, const Ray& ray, const KdRaySetup& setup, Cou
   }
 }
 
-template <int N, int B, typename Real>
-bool any_hit(const KdTreeView& tree, const Ray& ray, const KdRaySetup& setup) {
+template <int N, int B, typename Real, typename Counter>
+bool any_hit(const KdTreeView& tree, const Ray& ray, const KdRaySetup& setup, Counter counter) {
   Real tmin, tmax;
   const TravRay<Real> tr = make_trav_ray<Real>(ray, setup, tmin, tmax);
   const LeafRay<N> lr = make_leaf_ray<N, B>(ray);
@@ -370,11 +366,14 @@ bool any_hit(const KdTreeView& tree, const Ray& ray, const KdRaySetup& setup) {
   for (;;) {
     NodeWords n = read_node(tree.nodes, node);
     while ((n.flags_offset & 3u) != KdNode::kLeafFlag) {
+      counter.step();
       node = descend(n, tr, tmin, tmax, stack, sp);
       n = read_node(tree.nodes, node);
     }
+    counter.leaf();
     const std::uint32_t first = n.flags_offset >> 2, end = first + n.bits;
     for (std::uint32_t slot = first; slot < end; slot += N) {
+      counter.tests(end - slot < std::uint32_t(N) ? end - slot : std::uint32_t(N));
       const float* lanes = tree.blocks + std::size_t(slot / B) * (9 * B) + slot % B;
       const LaneTest<N> lt = test_lanes<N, B>(lanes, lr, limit);
       if (lt.hit_bits != 0) return true;
@@ -399,9 +398,18 @@ Hit intersect_with(const KdTreeView& tree, const Ray& ray, Counter counter) {
   return s.float_ok ? closest<N, B, float>(tree, ray, s, counter) : closest<N, B, double>(tree, ray, s, counter);
 }
 
+template <int N, int B, typename Counter>
+bool occluded_with(const KdTreeView& tree, const Ray& ray, Counter counter) {
+  static_assert(B % N == 0, "a vector covers lanes of one block");
+  const KdRaySetup s = kd_setup_ray(tree, ray);
+  if (s.plan == KdPlan::Miss) return false;
+  if (s.plan == KdPlan::Scan) return kd_scan_occluded(tree, ray);
+  return s.float_ok ? any_hit<N, B, float>(tree, ray, s, counter) : any_hit<N, B, double>(tree, ray, s, counter);
+}
+
 }  // namespace kd
 
-// The three entry points of one ISA's table (KdKernels). The tree's blocks must be B wide.
+// The single-ray entry points of one ISA's table (KdKernels). The tree's blocks must be B wide.
 template <int N, int B>
 Hit kd_intersect(const KdTreeView& tree, const Ray& ray) {
   return kd::intersect_with<N, B>(tree, ray, kd::NoCounts{});
@@ -414,11 +422,12 @@ Hit kd_intersect_counted(const KdTreeView& tree, const Ray& ray, KdTraversalCoun
 
 template <int N, int B>
 bool kd_occluded(const KdTreeView& tree, const Ray& ray) {
-  static_assert(B % N == 0, "a vector covers lanes of one block");
-  const KdRaySetup s = kd_setup_ray(tree, ray);
-  if (s.plan == KdPlan::Miss) return false;
-  if (s.plan == KdPlan::Scan) return kd_scan_occluded(tree, ray);
-  return s.float_ok ? kd::any_hit<N, B, float>(tree, ray, s) : kd::any_hit<N, B, double>(tree, ray, s);
+  return kd::occluded_with<N, B>(tree, ray, kd::NoCounts{});
+}
+
+template <int N, int B>
+bool kd_occluded_counted(const KdTreeView& tree, const Ray& ray, KdTraversalCounts& counts) {
+  return kd::occluded_with<N, B>(tree, ray, kd::Counting{&counts});
 }
 
 }  // namespace lancer::LANCER_ISA

@@ -44,6 +44,8 @@ using KdIntersectFn = Hit (*)(const KdTreeView& tree, const Ray& ray);
 using KdIntersectCountedFn = Hit (*)(const KdTreeView& tree, const Ray& ray, KdTraversalCounts& counts);
 // True when some triangle is hit with ray.tnear <= t < ray.tfar (BruteForce::occluded).
 using KdOccludedFn = bool (*)(const KdTreeView& tree, const Ray& ray);
+// The same, also adding up the work done.
+using KdOccludedCountedFn = bool (*)(const KdTreeView& tree, const Ray& ray, KdTraversalCounts& counts);
 // intersect for rays[0..count), count <= 64, traversed together as one packet
 // (kd_packet-inl.h): hits[i] is exactly what intersect gives for rays[i].
 using KdIntersectPacketFn = void (*)(const KdTreeView& tree, const Ray* rays, Hit* hits, int count);
@@ -57,6 +59,7 @@ struct KdKernels {
   KdIntersectFn intersect;
   KdIntersectCountedFn intersect_counted;
   KdOccludedFn occluded;
+  KdOccludedCountedFn occluded_counted;
   KdIntersectPacketFn intersect_packet;
   KdOccludedPacketFn occluded_packet;
 };

@@ -14,11 +14,13 @@ static_assert(vfloat<8>::size == 8);
 template Hit kd_intersect<8, 8>(const KdTreeView&, const Ray&);
 template Hit kd_intersect_counted<8, 8>(const KdTreeView&, const Ray&, KdTraversalCounts&);
 template bool kd_occluded<8, 8>(const KdTreeView&, const Ray&);
+template bool kd_occluded_counted<8, 8>(const KdTreeView&, const Ray&, KdTraversalCounts&);
 template void kd_intersect_packet<8, 8>(const KdTreeView&, const Ray*, Hit*, int);
 template void kd_occluded_packet<8, 8>(const KdTreeView&, const Ray*, bool*, int);
 
 KdKernels kd_kernels() {
   return {Isa::Avx2, 8, &kd_intersect<8, 8>, &kd_intersect_counted<8, 8>, &kd_occluded<8, 8>,
+          &kd_occluded_counted<8, 8>,
           &kd_intersect_packet<8, 8>, &kd_occluded_packet<8, 8>};
 }
 

@@ -14,11 +14,13 @@ static_assert(vfloat<16>::size == 16);
 template Hit kd_intersect<16, 16>(const KdTreeView&, const Ray&);
 template Hit kd_intersect_counted<16, 16>(const KdTreeView&, const Ray&, KdTraversalCounts&);
 template bool kd_occluded<16, 16>(const KdTreeView&, const Ray&);
+template bool kd_occluded_counted<16, 16>(const KdTreeView&, const Ray&, KdTraversalCounts&);
 template void kd_intersect_packet<16, 16>(const KdTreeView&, const Ray*, Hit*, int);
 template void kd_occluded_packet<16, 16>(const KdTreeView&, const Ray*, bool*, int);
 
 KdKernels kd_kernels() {
   return {Isa::Avx512, 16, &kd_intersect<16, 16>, &kd_intersect_counted<16, 16>, &kd_occluded<16, 16>,
+          &kd_occluded_counted<16, 16>,
           &kd_intersect_packet<16, 16>, &kd_occluded_packet<16, 16>};
 }
 

@@ -10,11 +10,13 @@ namespace lancer::scalar {
 template Hit kd_intersect<1, 4>(const KdTreeView&, const Ray&);
 template Hit kd_intersect_counted<1, 4>(const KdTreeView&, const Ray&, KdTraversalCounts&);
 template bool kd_occluded<1, 4>(const KdTreeView&, const Ray&);
+template bool kd_occluded_counted<1, 4>(const KdTreeView&, const Ray&, KdTraversalCounts&);
 template void kd_intersect_packet<1, 4>(const KdTreeView&, const Ray*, Hit*, int);
 template void kd_occluded_packet<1, 4>(const KdTreeView&, const Ray*, bool*, int);
 
 KdKernels kd_kernels() {
   return {Isa::Scalar, 4, &kd_intersect<1, 4>, &kd_intersect_counted<1, 4>, &kd_occluded<1, 4>,
+          &kd_occluded_counted<1, 4>,
           &kd_intersect_packet<1, 4>, &kd_occluded_packet<1, 4>};
 }
 

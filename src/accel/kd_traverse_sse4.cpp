@@ -14,11 +14,13 @@ static_assert(vfloat<4>::size == 4);
 template Hit kd_intersect<4, 4>(const KdTreeView&, const Ray&);
 template Hit kd_intersect_counted<4, 4>(const KdTreeView&, const Ray&, KdTraversalCounts&);
 template bool kd_occluded<4, 4>(const KdTreeView&, const Ray&);
+template bool kd_occluded_counted<4, 4>(const KdTreeView&, const Ray&, KdTraversalCounts&);
 template void kd_intersect_packet<4, 4>(const KdTreeView&, const Ray*, Hit*, int);
 template void kd_occluded_packet<4, 4>(const KdTreeView&, const Ray*, bool*, int);
 
 KdKernels kd_kernels() {
   return {Isa::Sse4, 4, &kd_intersect<4, 4>, &kd_intersect_counted<4, 4>, &kd_occluded<4, 4>,
+          &kd_occluded_counted<4, 4>,
           &kd_intersect_packet<4, 4>, &kd_occluded_packet<4, 4>};
 }
 

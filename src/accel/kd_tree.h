@@ -30,6 +30,9 @@ class KdTree final : public Accelerator {
   Hit intersect_counted(const Ray& ray, KdTraversalCounts& counts) const {
     return kernels_.intersect_counted(view(*this), ray, counts);
   }
+  bool occluded_counted(const Ray& ray, KdTraversalCounts& counts) const {
+    return kernels_.occluded_counted(view(*this), ray, counts);
+  }
   // Closest hits of rays[0..count), exactly intersect's, traversed in packets of up to 64
   // rays (coherent rays, e.g. an 8x8 pixel tile, share most of the work). Throws
   // std::invalid_argument for a negative count.

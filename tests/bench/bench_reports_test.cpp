@@ -50,6 +50,15 @@ BenchRun sample_run() {
     b.lancer_bytes = 50000;
     b.embree_bytes = 100000;
     s.builds.push_back(b);
+    SetCheck c;
+    c.set = RaySet::Primary;
+    c.isa = Isa::Avx2;
+    c.rays = 1000000;
+    c.work_counted = std::string(name) == "a&b";  // scene c: counts missing
+    c.steps_per_ray = 12.25;
+    c.leaves_per_ray = 3.0;
+    c.tests_per_ray = 40.5;
+    s.checks.push_back(c);
     for (int threads : {1, 2}) {
       Row r;
       r.set = RaySet::Primary;
@@ -75,14 +84,19 @@ TEST(BenchReports, MarkdownHasARowPerSceneSetIsaThreadsWithRatios) {
   write_markdown(sample_run(), out);
   const std::string md = out.str();
   EXPECT_NE(md.find("| scene | set | rays | isa | threads | packet | single | embree | embree call | packet / embree | "
-                    "single / embree |"),
+                    "single / embree | single-ray work per ray: steps / leaves / tests |"),
             std::string::npos)
       << md;
   EXPECT_NE(md.find("| a&b | primary | 1000000 | avx2 | 1 | 2.00 [1.67-2.50] | 0.40 [0.40-0.40] | 4.00 [4.00-5.00] | "
-                    "embree call | 0.50 | 0.10 |"),
+                    "embree call | 0.50 | 0.10 | 12.2 / 3.0 / 40.5 |"),
             std::string::npos)
       << md;
-  EXPECT_NE(md.find("| c | primary | 1000000 | avx2 | 2 | failed | failed | failed |"), std::string::npos) << md;
+  EXPECT_NE(md.find("| c | primary | 1000000 | avx2 | 1 | 2.00 [1.67-2.50] | 0.40 [0.40-0.40] | 4.00 [4.00-5.00] | "
+                    "embree call | 0.50 | 0.10 | n/a |"),
+            std::string::npos)
+      << md;
+  EXPECT_NE(md.find("| c | primary | 1000000 | avx2 | 2 | failed | failed | failed | | | | |"), std::string::npos)
+      << md;
   EXPECT_NE(md.find("- c primary avx2 2 threads: Lancer and Embree disagree"), std::string::npos) << md;
   // Scenes: build 12 / 8 ms at 2 threads (1.50), 50 and 100 bytes per triangle (0.50).
   EXPECT_NE(md.find("| 20.0 / 12.0 | 10.0 / 8.0 | 1.50 | 50.0 | 100.0 | 0.50 |"), std::string::npos) << md;
@@ -98,6 +112,11 @@ TEST(BenchReports, JsonHoldsEveryRepetition) {
   EXPECT_EQ(j.at("scenes")[1].at("rows")[1].at("failure"), "Lancer and Embree disagree");
   EXPECT_EQ(j.at("scenes")[0].at("builds")[0].at("embree_bytes"), 100000);
   EXPECT_EQ(j.at("scenes")[0].at("name"), "a&b");
+  const auto& work = j.at("scenes")[0].at("checks")[0].at("single_work_per_ray");
+  EXPECT_DOUBLE_EQ(work.at("inner_steps").get<double>(), 12.25);
+  EXPECT_DOUBLE_EQ(work.at("leaves").get<double>(), 3.0);
+  EXPECT_DOUBLE_EQ(work.at("triangle_tests").get<double>(), 40.5);
+  EXPECT_FALSE(j.at("scenes")[1].at("checks")[0].contains("single_work_per_ray"));
 }
 
 TEST(BenchReports, SvgHasOneRectPerBarAndNamesTheSelection) {

@@ -93,6 +93,12 @@ TEST_F(LancerBenchProgram, TinyRunPrintsTablesAndWritesJsonAndSvg) {
     EXPECT_GE(m.at("passes_per_run").get<int>(), 1) << mode;
   }
   EXPECT_EQ(scene.at("checks")[0].at("packet_mismatches"), 0);
+  // Camera rays into the Cornell box (32 triangles, a tree of a leaf or a few): nearly every
+  // ray enters a leaf and tests several triangles there.
+  const auto& work = scene.at("checks")[0].at("single_work_per_ray");
+  EXPECT_GE(work.at("inner_steps").get<double>(), 0.0);
+  EXPECT_GT(work.at("leaves").get<double>(), 0.5);
+  EXPECT_GT(work.at("triangle_tests").get<double>(), 2.0 * work.at("leaves").get<double>());
 
   const std::string svg = file_text(dir_ / "r.svg");
   EXPECT_EQ(svg.rfind("<svg", 0), 0u) << svg.substr(0, 80);

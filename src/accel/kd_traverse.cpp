@@ -37,6 +37,30 @@ void load_triangle(const KdTreeView& tree, std::uint32_t slot, glm::vec3 v[3]) {
   for (std::uint32_t k = 0; k < 3; ++k) v[k] = glm::vec3(b[k * w], b[(3 + k) * w], b[(6 + k) * w]);
 }
 
+// Four float lanes holding x, y, z and a copy of x: the three axes of kd_setup_ray_float in
+// one go. GCC's generic vectors, lowered by the compiler for the baseline target (SSE2 on
+// x86-64, scalar code where there is no vector unit): no ISA-specific code in this file.
+using Axes = float __attribute__((vector_size(16)));
+using AxesMask = std::int32_t __attribute__((vector_size(16)));
+
+Axes axes(float x, float y, float z) { return Axes{x, y, z, x}; }
+Axes axes(const glm::vec3& v) { return axes(v.x, v.y, v.z); }
+Axes splat(float f) { return Axes{f, f, f, f}; }
+Axes abs_of(Axes v) { return reinterpret_cast<Axes>(reinterpret_cast<AxesMask>(v) & 0x7fffffff); }
+// m ? a : b lane by lane, m from a comparison (all bits set or clear).
+Axes pick(AxesMask m, Axes a, Axes b) {
+  return reinterpret_cast<Axes>((m & reinterpret_cast<AxesMask>(a)) | (~m & reinterpret_cast<AxesMask>(b)));
+}
+bool all_lanes(AxesMask m) { return (m[0] & m[1] & m[2] & m[3]) != 0; }
+float largest(Axes v) {
+  const float a = v[0] > v[1] ? v[0] : v[1], b = v[2] > v[3] ? v[2] : v[3];
+  return a > b ? a : b;
+}
+float smallest(Axes v) {
+  const float a = v[0] < v[1] ? v[0] : v[1], b = v[2] < v[3] ? v[2] : v[3];
+  return a < b ? a : b;
+}
+
 }  // namespace
 
 float kd_max_extent_up(const Bounds3& b) {
@@ -48,41 +72,40 @@ float kd_max_extent_up(const Bounds3& b) {
 }
 
 // The packets' vector setup (kd_packet_setup-inl.h, where the limits and the exactness
-// argument are given) for one ray, with the same operations in the same order.
+// argument are given) for one ray, with the same operations per axis, the three axes side
+// by side. Every limit is checked once at the end: a ray outside them may compute
+// garbage on the way (never a trap: float exceptions are masked), and is then declined.
+// For the rays it accepts every value is finite, so the order of the min/max reductions
+// does not change the result.
 bool kd_setup_ray_float(const KdTreeView& tree, const Ray& ray, KdRaySetup& s) {
   constexpr float kFiniteMax = 3.40282347e38f;
   const float rel = static_cast<float>(kKdRelativeSlack);
   const float tnear = ray.tnear, tfar = ray.tfar;
-  if (!(std::fabs(tnear) <= kFiniteMax) || !(tfar >= -kFiniteMax)) return false;
   const float extent = tree.max_extent_up;
-  float max_dir = 0.0f, reach_max = 0.0f, reach[3], inv[3];
-  for (int a = 0; a < 3; ++a) {
-    const float org = ray.org[a], ad = std::fabs(ray.dir[a]);
-    if (!(std::fabs(org) <= kFiniteMax) || !(ad <= kFiniteMax) || !(ad >= 0x1p-60f)) return false;
-    max_dir = ad > max_dir ? ad : max_dir;
-    const float r_lo = std::fabs(org - tree.bounds.lo[a]), r_hi = std::fabs(org - tree.bounds.hi[a]);
-    reach[a] = r_hi > r_lo ? r_hi : r_lo;
-    reach_max = reach[a] > reach_max ? reach[a] : reach_max;
-    inv[a] = 1.0f / ray.dir[a];
-  }
+  const Axes org = axes(ray.org), dir = axes(ray.dir), lo = axes(tree.bounds.lo), hi = axes(tree.bounds.hi);
+  const Axes ad = abs_of(dir);
+  AxesMask ok = (abs_of(org) <= kFiniteMax) & (ad <= kFiniteMax) & (ad >= 0x1p-60f);
+  const float max_dir = largest(ad);
+  const Axes reach = pick(abs_of(org - hi) > abs_of(org - lo), abs_of(org - hi), abs_of(org - lo));
+  const float reach_max = largest(reach);
+  const Axes inv = splat(1.0f) / dir;
   const float scale = extent * extent * (reach_max > extent ? reach_max : extent);
   const float abs_slack = static_cast<float>(kKdExtentSlack) * extent / max_dir;
-  if (!(scale >= 0x1p-50f * max_dir) || !(scale <= 0x1p90f * max_dir) || !(abs_slack >= 0x1p-90f) ||
-      !(abs_slack <= 0x1p60f))
-    return false;
+  ok &= reach * abs_of(inv) <= 0x1p60f;
+  const Axes ta = (lo - org) * inv, tb = (hi - org) * inv;
+  const AxesMask a_first = ta < tb;
+  const Axes enter = pick(a_first, ta, tb), leave = pick(a_first, tb, ta);
+  const Axes t_enter = enter - (abs_of(enter) * rel + splat(abs_slack));
+  const Axes t_leave = leave + (abs_of(leave) * rel + splat(abs_slack));
   float t0 = tnear - (std::fabs(tnear) * rel + abs_slack);
   float t1 = tfar + (std::fabs(tfar) * rel + abs_slack);
-  for (int a = 0; a < 3; ++a) {
-    if (!(reach[a] * std::fabs(inv[a]) <= 0x1p60f)) return false;
-    const float org = ray.org[a];
-    const float ta = (tree.bounds.lo[a] - org) * inv[a], tb = (tree.bounds.hi[a] - org) * inv[a];
-    const float enter = ta < tb ? ta : tb, leave = ta < tb ? tb : ta;
-    const float t_enter = enter - (std::fabs(enter) * rel + abs_slack);
-    const float t_leave = leave + (std::fabs(leave) * rel + abs_slack);
-    t0 = t_enter > t0 ? t_enter : t0;
-    t1 = t_leave < t1 ? t_leave : t1;
-  }
-  if (!(std::fabs(t0) <= 0x1p64f) || !(std::fabs(t1) <= 0x1p64f)) return false;
+  const float enter_max = largest(t_enter), leave_min = smallest(t_leave);
+  t0 = enter_max > t0 ? enter_max : t0;
+  t1 = leave_min < t1 ? leave_min : t1;
+  if (!all_lanes(ok) || !(std::fabs(tnear) <= kFiniteMax) || !(tfar >= -kFiniteMax) ||
+      !(scale >= 0x1p-50f * max_dir) || !(scale <= 0x1p90f * max_dir) || !(abs_slack >= 0x1p-90f) ||
+      !(abs_slack <= 0x1p60f) || !(std::fabs(t0) <= 0x1p64f) || !(std::fabs(t1) <= 0x1p64f))
+    return false;
   if (!(t0 <= t1)) {  // misses the widened scene box
     s.plan = KdPlan::Miss;
     return true;

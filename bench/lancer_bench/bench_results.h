@@ -7,6 +7,7 @@
 #include <utility>
 #include <vector>
 
+#include "accel/kd_stats.h"
 #include "bench_options.h"
 #include "render/ray_sets.h"
 #include "simd/isa.h"
@@ -49,10 +50,8 @@ struct SetCheck {
   std::size_t embree_ties = 0;           // other triangle at the same t (shared edges, vertices)
   std::size_t embree_disagreements = 0;  // anything else
   std::string embree_call;               // the call the embree column times
-  // Work per ray of the single-ray kernel (intersect_counted / occluded_counted, one pass):
-  // inner-node steps, leaves entered, triangles tested (a SIMD leaf test counts its live lanes).
   bool work_counted = false;
-  double steps_per_ray = 0.0, leaves_per_ray = 0.0, tests_per_ray = 0.0;
+  KdWorkPerRay work;  // of the single-ray kernel (measure_kd_work)
   std::vector<std::pair<std::string, double>> embree_calibration;  // candidate call, Mrays/s (1 thread, best of 2)
   std::string failure;
 };

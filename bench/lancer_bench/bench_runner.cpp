@@ -153,24 +153,6 @@ int passes_per_run(const References& ref, Mode mode, int threads) {
   return static_cast<int>(std::clamp(std::ceil(kMinRunSeconds / estimate), 1.0, 1000.0));
 }
 
-// One counted pass of the single-ray kernel on the calling thread (the counts do not
-// depend on the thread, and a shared counter would cost more than the pass).
-void count_single_ray_work(const KdTree& kd, bool occlusion, std::span<const Ray> rays, SetCheck& check) {
-  KdTraversalCounts counts;
-  for (const Ray& r : rays) {
-    if (occlusion)
-      kd.occluded_counted(r, counts);
-    else
-      kd.intersect_counted(r, counts);
-  }
-  if (rays.empty()) return;
-  const double n = static_cast<double>(rays.size());
-  check.work_counted = true;
-  check.steps_per_ray = static_cast<double>(counts.inner_steps) / n;
-  check.leaves_per_ray = static_cast<double>(counts.leaves) / n;
-  check.tests_per_ray = static_cast<double>(counts.triangle_tests) / n;
-}
-
 SetCheck check_set(RaySet set, Isa isa, std::span<const Ray> rays, const IsaAccels& accels, const BenchOptions& opt,
                    Arenas& arenas, tbb::task_arena& one_thread, References& ref) {
   SetCheck check;
@@ -185,7 +167,8 @@ SetCheck check_set(RaySet set, Isa isa, std::span<const Ray> rays, const IsaAcce
                        ? static_cast<std::size_t>(std::count(ref.lancer.occluded.begin(), ref.lancer.occluded.end(), 1))
                        : static_cast<std::size_t>(std::count_if(ref.lancer.hits.begin(), ref.lancer.hits.end(),
                                                                 [](const Hit& h) { return h.valid(); }));
-  count_single_ray_work(*accels.kd, occlusion, rays, check);
+  arena.execute([&] { check.work = measure_kd_work(*accels.kd, rays, occlusion); });
+  check.work_counted = !rays.empty();
   if (wants(opt, Mode::Packet)) {
     Answers packet;
     ref.check_seconds[Mode::Packet] = trace_lancer(*accels.kd, Mode::Packet, occlusion, rays, arena, packet);

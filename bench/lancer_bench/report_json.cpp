@@ -58,7 +58,7 @@ json check_json(const SetCheck& c) {
   if (c.packet_checked) j["packet_mismatches"] = c.packet_mismatches;
   if (c.work_counted)
     j["single_work_per_ray"] = {
-        {"inner_steps", c.steps_per_ray}, {"leaves", c.leaves_per_ray}, {"triangle_tests", c.tests_per_ray}};
+        {"inner_steps", c.work.inner_steps}, {"leaves", c.work.leaves}, {"triangle_tests", c.work.triangle_tests}};
   if (c.embree_checked) {
     j["embree_ties"] = c.embree_ties;
     j["embree_disagreements"] = c.embree_disagreements;

@@ -112,7 +112,7 @@ const SetCheck* find_check(const SceneResult& s, const Row& r) {
 
 std::string work_cell(const SetCheck* c) {
   if (c == nullptr || !c->work_counted) return "n/a";
-  return fixed(c->steps_per_ray, 1) + " / " + fixed(c->leaves_per_ray, 1) + " / " + fixed(c->tests_per_ray, 1);
+  return fixed(c->work.inner_steps, 1) + " / " + fixed(c->work.leaves, 1) + " / " + fixed(c->work.triangle_tests, 1);
 }
 
 void write_checks(const BenchRun& run, std::ostream& out) {

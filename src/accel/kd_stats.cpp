@@ -1,5 +1,9 @@
 #include "accel/kd_stats.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/combinable.h>
+#include <tbb/parallel_for.h>
+
 #include <cstdio>
 #include <ostream>
 #include <vector>
@@ -82,6 +86,33 @@ void print_kd_stats(std::ostream& os, const KdStats& s) {
   put("memory:                 ", "%.2f MiB", double(s.memory_bytes) / (1024.0 * 1024.0));
   put("bytes / triangle:       ", "%.1f", s.bytes_per_triangle);
   put("build time:             ", "%.2f ms", s.build_ms);
+}
+
+KdWorkPerRay measure_kd_work(const KdTree& tree, std::span<const Ray> rays, bool occlusion) {
+  KdWorkPerRay w;
+  if (rays.empty()) return w;
+  tbb::combinable<KdTraversalCounts> per_thread;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, rays.size(), 1024),
+                    [&](const tbb::blocked_range<std::size_t>& r) {
+                      KdTraversalCounts& c = per_thread.local();
+                      for (std::size_t i = r.begin(); i != r.end(); ++i) {
+                        if (occlusion)
+                          tree.occluded_counted(rays[i], c);
+                        else
+                          tree.intersect_counted(rays[i], c);
+                      }
+                    });
+  KdTraversalCounts total;
+  per_thread.combine_each([&](const KdTraversalCounts& c) {
+    total.inner_steps += c.inner_steps;
+    total.leaves += c.leaves;
+    total.triangle_tests += c.triangle_tests;
+  });
+  const double n = static_cast<double>(rays.size());
+  w.inner_steps = static_cast<double>(total.inner_steps) / n;
+  w.leaves = static_cast<double>(total.leaves) / n;
+  w.triangle_tests = static_cast<double>(total.triangle_tests) / n;
+  return w;
 }
 
 }  // namespace lancer

@@ -1,8 +1,12 @@
-// Statistics of a built kd-tree, for `lancer info` and the benchmarks.
+// Statistics of a built kd-tree, for `lancer info` and the benchmarks, and the work its
+// single-ray kernels do on given rays, for `lancer trace` and `lancer bench`.
 #pragma once
 
 #include <cstddef>
 #include <iosfwd>
+#include <span>
+
+#include "accel/ray.h"
 
 namespace lancer {
 
@@ -32,5 +36,14 @@ KdStats compute_kd_stats(const KdTree& tree);
 
 // A readable block, one quantity per line.
 void print_kd_stats(std::ostream& os, const KdStats& stats);
+
+// Mean work per ray of the single-ray kernel (intersect_counted, or occluded_counted with
+// `occlusion`): inner-node steps, leaves entered, triangles tested (a SIMD leaf test counts
+// the triangles in its lanes, not its width). All zero for no rays. One untimed pass,
+// spread over the current task arena; the counts do not depend on the threads.
+struct KdWorkPerRay {
+  double inner_steps = 0.0, leaves = 0.0, triangle_tests = 0.0;
+};
+KdWorkPerRay measure_kd_work(const KdTree& tree, std::span<const Ray> rays, bool occlusion);
 
 }  // namespace lancer

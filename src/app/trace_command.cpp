@@ -14,6 +14,8 @@
 #include <tbb/task_arena.h>
 
 #include "accel/accel_factory.h"
+#include "accel/kd_stats.h"
+#include "accel/kd_tree.h"
 #include "app/render_command.h"
 #include "render/ray_batch.h"
 #include "render/ray_file.h"
@@ -70,6 +72,15 @@ int run_trace(const TraceOptions& opt, std::ostream& out, std::ostream& err) {
                   std::string(isa_name(isa)).c_str(), threads, threads == 1 ? "" : "s", seconds, mrays, answered,
                   opt.occlusion ? "occluded" : "hits");
     out << line << "\n";
+    // What the time bought, counted in a second, untimed pass (the same for every mode).
+    if (const auto* kd = dynamic_cast<const KdTree*>(accel.get())) {
+      KdWorkPerRay w;
+      arena.execute([&] { w = measure_kd_work(*kd, rays, opt.occlusion); });
+      std::snprintf(line, sizeof line,
+                    "lancer trace: single-ray kernel work per ray: %.2f inner steps, %.2f leaves, %.2f triangle tests",
+                    w.inner_steps, w.leaves, w.triangle_tests);
+      out << line << "\n";
+    }
     return 0;
   } catch (const std::bad_alloc&) {
     err << "lancer: error: out of memory\n";

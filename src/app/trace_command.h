@@ -20,8 +20,8 @@ struct TraceOptions {
   bool occlusion = false;
 };
 
-// Returns the process exit code (0, or 1 with the message on `err`); the summary line
-// goes to `out`. Packet mode traces each run of 64 consecutive rays with one
+// Returns the process exit code (0, or 1 with the message on `err`); the summary line and
+// a line with the kd-tree's single-ray work per ray (measure_kd_work) go to `out`. Packet mode traces each run of 64 consecutive rays with one
 // Accelerator::intersect_packet call, single mode calls intersect per ray, occlusion
 // calls occluded per ray in both modes. The answers never depend on mode or threads.
 int run_trace(const TraceOptions& options, std::ostream& out, std::ostream& err);

@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <bit>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -16,6 +17,8 @@
 #include <vector>
 
 #include "accel/brute_force.h"
+#include "accel/kd_stats.h"
+#include "accel/kd_tree.h"
 #include "render/ray_file.h"
 #include "scene/load_scene.h"
 #include "simd/isa.h"
@@ -159,6 +162,37 @@ TEST(TraceCli, RaysThenTraceGivesTheOraclesHitsInEveryModeAndThreadCount) {
     EXPECT_NE(s.out.find("rays, single, isa "), std::string::npos) << s.out;
     EXPECT_NE(s.out.find(", 1 thread: "), std::string::npos) << s.out;
     EXPECT_NE(s.out.find(hits), std::string::npos) << s.out;
+  }
+}
+
+// Beside the rate, trace prints what the single-ray kernel did per ray: the counts of
+// measure_kd_work on the same tree, whatever the mode and the thread count.
+TEST(TraceCli, PrintsTheSingleRayWorkPerRayInEveryMode) {
+  const fs::path dir = temp_dir();
+  const std::string spheres = (test::scenes_dir() / "cornell-box-spheres.gltf").string();
+  const Scene scene = load_scene(spheres);
+  const KdTree kd(scene.triangles);
+  for (const char* set : {"diffuse", "shadow"}) {
+    const fs::path rays_file = dir / (std::string("work.") + set + ".rays");
+    ASSERT_EQ(run({"rays", spheres, "--set", set, "-o", rays_file.string(), "--width", "32", "--height", "32"}).code, 0);
+    const std::vector<Ray> rays = read_rays(rays_file);
+    const bool occlusion = std::string(set) == "shadow";
+    const KdWorkPerRay w = measure_kd_work(kd, rays, occlusion);
+    EXPECT_GT(w.inner_steps, 0.0) << set << ": a 1932-triangle tree has inner nodes";
+    EXPECT_GT(w.triangle_tests, w.leaves) << set;
+    char expected[256];
+    std::snprintf(expected, sizeof expected,
+                  "lancer trace: single-ray kernel work per ray: %.2f inner steps, %.2f leaves, %.2f triangle tests\n",
+                  w.inner_steps, w.leaves, w.triangle_tests);
+    for (const char* mode : {"packet", "single"})
+      for (const char* threads : {"1", "2"}) {
+        std::vector<std::string> args{"trace", spheres, "--rays", rays_file.string(), "--hits",
+                                      (dir / "work.hits").string(), "--mode", mode, "--threads", threads};
+        if (occlusion) args.push_back("--occlusion");
+        const CliResult r = run(args);
+        ASSERT_EQ(r.code, 0) << r.err;
+        EXPECT_NE(r.out.find(expected), std::string::npos) << set << " " << mode << " " << threads << ": " << r.out;
+      }
   }
 }
 

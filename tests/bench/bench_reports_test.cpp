@@ -55,9 +55,7 @@ BenchRun sample_run() {
     c.isa = Isa::Avx2;
     c.rays = 1000000;
     c.work_counted = std::string(name) == "a&b";  // scene c: counts missing
-    c.steps_per_ray = 12.25;
-    c.leaves_per_ray = 3.0;
-    c.tests_per_ray = 40.5;
+    c.work = {12.25, 3.0, 40.5};
     s.checks.push_back(c);
     for (int threads : {1, 2}) {
       Row r;

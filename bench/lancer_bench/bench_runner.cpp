@@ -20,6 +20,7 @@
 #include "bench_checks.h"
 #include "bench_trace.h"
 #include "embree_tracer.h"
+#include "simd/out_of_memory.h"
 
 namespace lancer::bench {
 
@@ -375,8 +376,8 @@ BenchRun run_suite(const BenchOptions& options, const std::vector<SuiteScene>& s
     log << "[" << i + 1 << "/" << scenes.size() << "] " << scenes[i].name << "\n";
     try {
       run_scene(scenes[i], options, arenas, one_thread, result, log);
-    } catch (const std::bad_alloc&) {
-      result.failure = "out of memory";
+    } catch (const std::bad_alloc& e) {
+      result.failure = out_of_memory_message(e);
     } catch (const std::exception& e) {
       result.failure = e.what();
     }

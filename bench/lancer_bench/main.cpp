@@ -15,6 +15,7 @@
 #include "report_markdown.h"
 #include "report_svg.h"
 #include "render_bench.h"
+#include "simd/out_of_memory.h"
 
 namespace {
 
@@ -87,8 +88,8 @@ int run(int argc, char** argv) {
 int main(int argc, char** argv) {
   try {
     return run(argc, argv);
-  } catch (const std::bad_alloc&) {
-    std::cerr << "lancer-bench: error: out of memory\n";
+  } catch (const std::bad_alloc& e) {
+    std::cerr << "lancer-bench: error: " << lancer::out_of_memory_message(e) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "lancer-bench: error: " << e.what() << "\n";
   }

@@ -8,6 +8,7 @@
 #include <stdexcept>
 
 #include "scene/gltf_writer.h"
+#include "simd/out_of_memory.h"
 
 namespace lancer {
 
@@ -32,8 +33,9 @@ int run_gen(const GenOptions& opt, std::ostream& out, std::ostream& err) {
     out << "wrote " << opt.output << ": " << scene.triangle_count() << " triangles (spd " << opt.name << ", size "
         << opt.size << ")\n";
     return 0;
-  } catch (const std::bad_alloc&) {
-    err << "lancer: error: out of memory generating spd " << opt.name << " at size " << opt.size << "\n";
+  } catch (const std::bad_alloc& e) {
+    err << "lancer: error: " << out_of_memory_message(e) << " generating spd " << opt.name << " at size " << opt.size
+        << "\n";
   } catch (const std::exception& e) {
     err << "lancer: error: " << e.what() << "\n";
   }

@@ -10,6 +10,7 @@
 #include "accel/kd_tree.h"
 #include "app/render_command.h"
 #include "scene/load_scene.h"
+#include "simd/out_of_memory.h"
 
 namespace lancer {
 
@@ -45,6 +46,9 @@ int run_info(const InfoOptions& opt, std::ostream& out, std::ostream& err) {
       out << line;
     }
     return 0;
+  } catch (const std::bad_alloc& e) {
+    err << "lancer: error: " << out_of_memory_message(e) << "\n";
+    return 1;
   } catch (const std::exception& e) {
     err << "lancer: error: " << e.what() << "\n";
     return 1;

@@ -13,6 +13,7 @@
 #include "app/render_command.h"
 #include "render/ray_file.h"
 #include "scene/load_scene.h"
+#include "simd/out_of_memory.h"
 
 namespace lancer {
 
@@ -43,8 +44,8 @@ int run_rays(const RaysOptions& opt, std::ostream& out, std::ostream& err) {
     out << "lancer rays: " << rays.size() << " " << ray_set_name(opt.set) << " rays (" << opt.width << "x" << height
         << " pixels, seed " << opt.seed << ") to " << opt.output << "\n";
     return 0;
-  } catch (const std::bad_alloc&) {
-    err << "lancer: error: out of memory\n";
+  } catch (const std::bad_alloc& e) {
+    err << "lancer: error: " << out_of_memory_message(e) << "\n";
   } catch (const std::exception& e) {
     err << "lancer: error: " << e.what() << "\n";
   }

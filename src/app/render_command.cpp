@@ -22,6 +22,7 @@
 #include "render/renderer.h"
 #include "scene/load_scene.h"
 #include "scene/scene_error.h"
+#include "simd/out_of_memory.h"
 
 namespace lancer {
 
@@ -184,8 +185,8 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
           << " samples\n";
     for (const auto& o : opt.outputs) out << "wrote " << o << "\n";
     return interrupt.exit_code();
-  } catch (const std::bad_alloc&) {
-    err << "lancer: error: out of memory\n";
+  } catch (const std::bad_alloc& e) {
+    err << "lancer: error: " << out_of_memory_message(e) << "\n";
   } catch (const std::exception& e) {
     err << "lancer: error: " << e.what() << "\n";
   }

@@ -20,6 +20,7 @@
 #include "render/ray_batch.h"
 #include "render/ray_file.h"
 #include "scene/load_scene.h"
+#include "simd/out_of_memory.h"
 
 namespace lancer {
 
@@ -82,8 +83,8 @@ int run_trace(const TraceOptions& opt, std::ostream& out, std::ostream& err) {
       out << line << "\n";
     }
     return 0;
-  } catch (const std::bad_alloc&) {
-    err << "lancer: error: out of memory\n";
+  } catch (const std::bad_alloc& e) {
+    err << "lancer: error: " << out_of_memory_message(e) << "\n";
   } catch (const std::exception& e) {
     err << "lancer: error: " << e.what() << "\n";
   }

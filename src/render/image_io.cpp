@@ -35,6 +35,7 @@
 #include <stb_image_write.h>
 
 #include "render/color.h"
+#include "simd/out_of_memory.h"
 
 namespace lancer {
 namespace {
@@ -397,8 +398,8 @@ void write_image(const ImageRGB& image, const std::filesystem::path& file) {
     bytes = format == Format::kExr ? encode_exr(image, file) : encode_png(image, file);
   } catch (const ImageError&) {
     throw;
-  } catch (const std::bad_alloc&) {
-    throw ImageError(file, "out of memory while encoding");
+  } catch (const std::bad_alloc& e) {
+    throw ImageError(file, out_of_memory_message(e) + " while encoding");
   } catch (const std::exception& e) {  // Iex::BaseExc derives from std::exception
     throw ImageError(file, e.what());
   }
@@ -412,8 +413,8 @@ ImageRGB read_image(const std::filesystem::path& file) {
     return format == Format::kExr ? decode_exr(bytes, file) : decode_with_stb(bytes, file, format);
   } catch (const ImageError&) {
     throw;
-  } catch (const std::bad_alloc&) {
-    throw ImageError(file, "out of memory while decoding");
+  } catch (const std::bad_alloc& e) {
+    throw ImageError(file, out_of_memory_message(e) + " while decoding");
   } catch (const std::exception& e) {
     throw ImageError(file, e.what());
   }

@@ -4,6 +4,7 @@
 // (after checking it) and reads in fixed-size chunks; writing streams fixed-size chunks
 // into "<file>.tmp", flushes it and renames it over the target, as image_io.cpp does.
 #include "render/ray_file.h"
+#include "simd/out_of_memory.h"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -111,8 +112,8 @@ void read_records(const fs::path& file, const RecordKind& kind, Allocate&& alloc
       read_exactly(fd.get(), buffer.data(), n * kind.bytes, file);
       decode(buffer.data(), static_cast<std::size_t>(first), n);
     }
-  } catch (const std::bad_alloc&) {
-    throw RayFileError(file, "out of memory for " + std::to_string(count) + " " + kind.name + "s");
+  } catch (const std::bad_alloc& e) {
+    throw RayFileError(file, out_of_memory_message(e) + " for " + std::to_string(count) + " " + kind.name + "s");
   }
 }
 

@@ -184,6 +184,7 @@ void PrimitiveEmitter::emit_primitive(int mesh, int primitive, const glm::dmat4&
   // mirrors its meshes, turning counter-clockwise (front) triangles clockwise.
   // Swapping two corners restores cross(b - a, c - a) to the front side.
   const bool mirrored = glm::determinant(glm::dmat3(world)) < 0.0;
+  builder_.reserve_more(triangles);  // counted from indices already read and checked
   for (std::size_t t = 0; t < triangles; ++t) {
     std::array<std::size_t, 3> c = triangle_corners(mode, t);
     if (mirrored) std::swap(c[1], c[2]);

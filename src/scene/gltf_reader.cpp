@@ -218,15 +218,7 @@ void add_light(const ModelRef& m, int node, const glm::dmat4& world, Scene& scen
   scene.lights.push_back(out);
 }
 
-}  // namespace
-
-Scene read_gltf(const std::filesystem::path& path) {
-  return read_gltf_bytes(read_whole_file(path, path.string()), path);
-}
-
-Scene read_gltf_bytes(std::span<const unsigned char> bytes, const std::filesystem::path& path) {
-  const std::string file = path.string();
-  const tinygltf::Model model = load_model(bytes, path, file);
+Scene scene_from_model(const tinygltf::Model& model, const std::string& file) {
   const ModelRef m{model, file};
 
   Scene scene;
@@ -244,6 +236,20 @@ Scene read_gltf_bytes(std::span<const unsigned char> bytes, const std::filesyste
   }
   builder.finish();
   return scene;
+}
+
+}  // namespace
+
+Scene read_gltf(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  // The file's bytes are freed once parsed: tinygltf keeps its own copy of the buffers.
+  const tinygltf::Model model = load_model(read_whole_file(path, file), path, file);
+  return scene_from_model(model, file);
+}
+
+Scene read_gltf_bytes(std::span<const unsigned char> bytes, const std::filesystem::path& path) {
+  const std::string file = path.string();
+  return scene_from_model(load_model(bytes, path, file), file);
 }
 
 }  // namespace lancer

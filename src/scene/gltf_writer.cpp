@@ -320,8 +320,12 @@ void add_lights(tinygltf::Model& model, const Scene& scene, const std::string& f
 tinygltf::Model make_model(const Scene& scene, const std::string& file) {
   const std::size_t n = scene.triangle_count();
   if (n == 0) throw SceneError(file, "the scene has no triangles to write");
-  if (scene.material_id.size() != n || scene.attrib_flags.size() != n || scene.normals.size() != 3 * n)
+  if (scene.material_id.size() != n || scene.attrib_flags.size() != n ||
+      (!scene.normals.empty() && scene.normals.size() != 3 * n))
     throw SceneError(file, "inconsistent scene: per-triangle arrays do not match the triangle count");
+  if (scene.normals.empty())
+    for (std::size_t t = 0; t < n; ++t)
+      if (has_normals(scene, t)) throw SceneError(file, "inconsistent scene: triangles flagged with normals, none stored");
   for (std::uint32_t id : scene.material_id)
     if (id >= scene.materials.size()) throw SceneError(file, "material index " + std::to_string(id) + " out of range");
 

@@ -7,6 +7,7 @@
 #include "scene/gltf_reader.h"
 #include "scene/obj_reader.h"
 #include "scene/scene_error.h"
+#include "simd/release_free_memory.h"
 
 namespace lancer {
 
@@ -27,6 +28,7 @@ Scene load_scene(const std::filesystem::path& path) {
     throw SceneError(file, "unknown scene format '" + ext + "' (expected .gltf, .glb or .obj)");
   }
   if (scene.triangle_count() == 0) throw SceneError(file, "the scene has no triangles");
+  release_free_memory();  // the reader's freed copies (file, decoded accessors), before the build
   return scene;
 }
 

@@ -5,6 +5,7 @@
 // counting the degenerate ones SceneBuilder drops.
 #include "scene/obj_reader.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <fstream>
 #include <iostream>
@@ -99,6 +100,10 @@ class FanTriangulator {
     const tinyobj::mesh_t& mesh = shape.mesh;
     if (mesh.material_ids.size() != mesh.num_face_vertices.size())
       throw SceneError(file_, "shape '" + shape.name + "': face and material counts disagree");
+    // Fanned triangles: at most one per parsed index, so this count is backed by data.
+    std::size_t triangles = 0;
+    for (unsigned char corners : mesh.num_face_vertices) triangles += corners >= 3 ? corners - 2u : 0u;
+    builder_.reserve_more(std::min(triangles, mesh.indices.size()));
     std::size_t offset = 0;
     for (std::size_t f = 0; f < mesh.num_face_vertices.size(); ++f) {
       const std::size_t corners = mesh.num_face_vertices[f];

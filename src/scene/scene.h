@@ -144,12 +144,13 @@ struct Scene {
   std::vector<std::uint32_t> material_id;         // per triangle, index into materials
   std::vector<std::uint32_t> source_triangle_id;  // per triangle: position among the file's triangles
   std::vector<std::uint8_t> attrib_flags;         // per triangle, TriangleAttrib bits
-  std::vector<glm::vec3> normals;                 // per corner, world space, unit length
-  std::vector<glm::vec2> texcoords;               // per corner, TEXCOORD_0
-  std::vector<glm::vec4> tangents;                // per corner, xyz world space, w handedness
-  // Per corner, TEXCOORD_1; empty when no triangle has one (readers fill it only for
-  // materials that use texcoord set 1), else as long as `texcoords`.
-  std::vector<glm::vec2> texcoords1;
+  // Per-corner attributes. Each is empty when no triangle has it (a mesh without normals
+  // or texture coordinates costs nothing for them), else 3 * triangle_count() long, with
+  // zeros at the corners of triangles whose attrib_flags bit is clear.
+  std::vector<glm::vec3> normals;     // world space, unit length (kHasNormals)
+  std::vector<glm::vec2> texcoords;   // TEXCOORD_0 (kHasTexcoords)
+  std::vector<glm::vec4> tangents;    // xyz world space, w handedness (kHasTangents)
+  std::vector<glm::vec2> texcoords1;  // TEXCOORD_1, filled only for materials that use set 1
 
   std::vector<Material> materials;  // never empty once loaded: a default material is added
   std::vector<Texture> textures;

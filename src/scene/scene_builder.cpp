@@ -1,6 +1,8 @@
 #include "scene/scene_builder.h"
 
+#include <algorithm>
 #include <cmath>
+#include <vector>
 
 #include <glm/geometric.hpp>
 
@@ -10,6 +12,28 @@ namespace lancer {
 
 namespace {
 bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// Appends one triangle's three corners to a per-corner array (zeros when `values` is
+// null). The array stays empty until the first triangle that has the attribute; it is
+// then padded with zeros for the `earlier_corners` before, and reserved as far as the
+// triangle arrays are, so that it grows with them instead of doubling on its own.
+template <class T>
+void append_corners(std::vector<T>& corners, const T* values, std::size_t earlier_corners,
+                    std::size_t triangle_capacity) {
+  if (!values && corners.empty()) return;
+  if (corners.empty()) {
+    corners.reserve(3 * triangle_capacity);
+    corners.resize(earlier_corners, T(0.0f));
+  }
+  for (int k = 0; k < 3; ++k) corners.push_back(values ? values[k] : T(0.0f));
+}
+
+// Drops the spare capacity of a finished array: readers that cannot count their
+// triangles in advance let the arrays grow by doubling, up to twice what they hold.
+template <class V>
+void shrink(V& v) {
+  if (v.capacity() - v.size() > v.size() / 16) v.shrink_to_fit();
+}
 }  // namespace
 
 bool SceneBuilder::add_triangle(const glm::vec3 p[3], std::uint32_t material, std::uint32_t source_id,
@@ -31,43 +55,65 @@ bool SceneBuilder::add_triangle(const glm::vec3 p[3], std::uint32_t material, st
   scene_.source_triangle_id.push_back(source_id);
 
   std::uint8_t flags = 0;
-  for (int k = 0; k < 3; ++k) {
-    glm::vec3 n(0.0f);
-    if (attribs.normals) {
-      n = attribs.normals[k];
-      const float len = glm::length(n);
+  const std::size_t earlier_corners = 3 * (scene_.triangles.size() - 1);
+  const std::size_t capacity = scene_.triangles.x[0].capacity();
+  if (attribs.normals) {
+    glm::vec3 n[3];
+    bool all_valid = true;
+    for (int k = 0; k < 3; ++k) {
+      n[k] = attribs.normals[k];
+      const float len = glm::length(n[k]);
       if (!(len > 0.0f) || !std::isfinite(len)) {
         ++scene_.stats.zero_normals_repaired;
-        n = glm::vec3(0.0f);  // flagged below: shading falls back to the geometric normal
+        n[k] = glm::vec3(0.0f);  // the flag stays clear: shading falls back to the geometric normal
+        all_valid = false;
       } else {
-        n /= len;
+        n[k] /= len;
       }
     }
-    scene_.normals.push_back(n);
-    scene_.texcoords.push_back(attribs.texcoords ? attribs.texcoords[k] : glm::vec2(0.0f));
-    scene_.tangents.push_back(attribs.tangents ? attribs.tangents[k] : glm::vec4(0.0f));
-  }
-  if (attribs.normals) {
-    const std::size_t base = scene_.normals.size() - 3;
-    bool all_valid = true;
-    for (int k = 0; k < 3; ++k) all_valid = all_valid && scene_.normals[base + k] != glm::vec3(0.0f);
+    append_corners(scene_.normals, n, earlier_corners, capacity);
     if (all_valid) flags |= kHasNormals;
+  } else {
+    append_corners<glm::vec3>(scene_.normals, nullptr, earlier_corners, capacity);
   }
+  append_corners(scene_.texcoords, attribs.texcoords, earlier_corners, capacity);
+  append_corners(scene_.tangents, attribs.tangents, earlier_corners, capacity);
+  append_corners(scene_.texcoords1, attribs.texcoords1, earlier_corners, capacity);
   if (attribs.texcoords) flags |= kHasTexcoords;
   if (attribs.tangents) flags |= kHasTangents;
-  // texcoords1 stays empty until a triangle has TEXCOORD_1; the earlier corners then
-  // get zeros so the array lines up with the others.
-  if (attribs.texcoords1 || !scene_.texcoords1.empty()) {
-    scene_.texcoords1.resize(scene_.texcoords.size() - 3);  // a no-op once it is in use
-    for (int k = 0; k < 3; ++k)
-      scene_.texcoords1.push_back(attribs.texcoords1 ? attribs.texcoords1[k] : glm::vec2(0.0f));
-  }
   if (attribs.texcoords1) flags |= kHasTexcoords1;
   scene_.attrib_flags.push_back(flags);
   return true;
 }
 
+void SceneBuilder::reserve_more(std::size_t triangles) {
+  const std::size_t size = scene_.triangles.size(), capacity = scene_.triangles.x[0].capacity();
+  if (size + triangles <= capacity) return;
+  const std::size_t n = std::max(size + triangles, capacity + capacity / 2);
+  scene_.triangles.reserve(n);
+  scene_.material_id.reserve(n);
+  scene_.source_triangle_id.reserve(n);
+  scene_.attrib_flags.reserve(n);
+  // Per-corner arrays in use grow alongside; the others reserve on first use.
+  if (!scene_.normals.empty()) scene_.normals.reserve(3 * n);
+  if (!scene_.texcoords.empty()) scene_.texcoords.reserve(3 * n);
+  if (!scene_.tangents.empty()) scene_.tangents.reserve(3 * n);
+  if (!scene_.texcoords1.empty()) scene_.texcoords1.reserve(3 * n);
+}
+
 void SceneBuilder::finish() {
+  for (int k = 0; k < 3; ++k) {
+    shrink(scene_.triangles.x[k]);
+    shrink(scene_.triangles.y[k]);
+    shrink(scene_.triangles.z[k]);
+  }
+  shrink(scene_.material_id);
+  shrink(scene_.source_triangle_id);
+  shrink(scene_.attrib_flags);
+  shrink(scene_.normals);
+  shrink(scene_.texcoords);
+  shrink(scene_.tangents);
+  shrink(scene_.texcoords1);
   if (scene_.materials.empty()) {
     Material m;
     m.name = "default";

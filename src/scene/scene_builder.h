@@ -28,7 +28,14 @@ class SceneBuilder {
   bool add_triangle(const glm::vec3 p[3], std::uint32_t material, std::uint32_t source_id,
                     const CornerAttributes& attribs = {});
 
-  // Adds the default material if the scene has none, and checks material ids.
+  // Makes room for `triangles` more triangles, growing by at least half the capacity so
+  // that many small calls stay linear. Readers call it with a count they have checked
+  // against the data (never with a count a file merely claims): one big mesh is then
+  // stored without the doubling that would briefly need three times its size.
+  void reserve_more(std::size_t triangles);
+
+  // Drops spare capacity, adds the default material if the scene has none, and checks
+  // material ids.
   void finish();
 
  private:

@@ -69,10 +69,7 @@ SpdEmitter::SpdEmitter(Scene& scene, std::string name, int size, std::uint64_t e
   scene_.triangles.reserve(n);
   scene_.material_id.reserve(n);
   scene_.source_triangle_id.reserve(n);
-  scene_.attrib_flags.reserve(n);
-  scene_.normals.reserve(3 * n);
-  scene_.texcoords.reserve(3 * n);
-  scene_.tangents.reserve(3 * n);
+  scene_.attrib_flags.reserve(n);  // normals, where a generator has them, follow (scene_builder.cpp)
 }
 
 std::uint32_t SpdEmitter::add_material(const Material& material) {

@@ -31,8 +31,17 @@ void expect_valid_scene(const Scene& scene, std::size_t max_triangles, const std
   EXPECT_LE(n, max_triangles) << where;
   ASSERT_EQ(scene.material_id.size(), n) << where;
   ASSERT_EQ(scene.source_triangle_id.size(), n) << where;
-  ASSERT_EQ(scene.normals.size(), 3 * n) << where;
-  ASSERT_EQ(scene.texcoords.size(), 3 * n) << where;
+  ASSERT_EQ(scene.attrib_flags.size(), n) << where;
+  // A per-corner array is empty when no triangle has the attribute, else one entry per corner.
+  bool any_normals = false, any_texcoords = false;
+  for (std::uint8_t f : scene.attrib_flags) {
+    any_normals = any_normals || (f & kHasNormals);
+    any_texcoords = any_texcoords || (f & kHasTexcoords);
+  }
+  ASSERT_TRUE(scene.normals.empty() || scene.normals.size() == 3 * n) << where;
+  ASSERT_TRUE(scene.texcoords.empty() || scene.texcoords.size() == 3 * n) << where;
+  if (any_normals) ASSERT_EQ(scene.normals.size(), 3 * n) << where;
+  if (any_texcoords) ASSERT_EQ(scene.texcoords.size(), 3 * n) << where;
   for (std::size_t i = 0; i < n; ++i) {
     for (int k = 0; k < 3; ++k) ASSERT_TRUE(finite(scene.triangles.vertex(i, k))) << where << ", triangle " << i;
     ASSERT_LT(scene.material_id[i], scene.materials.size()) << where << ", triangle " << i;

@@ -9,31 +9,39 @@
 
 namespace lancer::kd {
 
-void append_events(const Bounds3& box, std::uint32_t index, EventLists& out) {
-  for (int a = 0; a < 3; ++a) {
-    if (box.lo[a] == box.hi[a]) {
-      out.axis[a].push_back(Event::make(box.lo[a], kPlanar, index));
-    } else {
-      out.axis[a].push_back(Event::make(box.lo[a], kStart, index));
-      out.axis[a].push_back(Event::make(box.hi[a], kEnd, index));
-    }
+void append_events(const Bounds3& box, int axis, std::uint32_t index, EventVector& out) {
+  if (box.lo[axis] == box.hi[axis]) {
+    out.push_back(Event::make(box.lo[axis], kPlanar, index));
+  } else {
+    out.push_back(Event::make(box.lo[axis], kStart, index));
+    out.push_back(Event::make(box.hi[axis], kEnd, index));
   }
 }
 
-EventLists make_sorted_events(const std::vector<Ref>& refs, bool parallel) {
+EventLists make_sorted_events(const RefVector& refs) {
   EventLists ev;
-  for (int a = 0; a < 3; ++a) ev.axis[a].reserve(2 * refs.size());
-  for (std::size_t i = 0; i < refs.size(); ++i) append_events(refs[i].box, static_cast<std::uint32_t>(i), ev);
-  // Each list is built in ascending ref order, so the stable sort by (pos, type) gives the
-  // (pos, type, ref) order of Event::operator<.
-  auto sort_axis = [&ev](int a) {
-    EventVector buffer;
-    radix_sort_events(ev.axis[a], buffer);
-  };
-  if (parallel) {
-    tbb::parallel_invoke([&] { sort_axis(0); }, [&] { sort_axis(1); }, [&] { sort_axis(2); });
-  } else {
-    for (int a = 0; a < 3; ++a) sort_axis(a);
+  EventVector buffer;
+  for (int a = 0; a < 3; ++a) {
+    EventVector& list = ev.axis[a];
+    list.resize(2 * refs.size());  // the most there can be; uninitialised (EventVector)
+    Event* out = list.data();
+    for (std::size_t i = 0; i < refs.size(); ++i) {
+      const float lo = refs[i].box.lo[a], hi = refs[i].box.hi[a];
+      const auto index = static_cast<std::uint32_t>(i);
+      // Written branch-free: a planar ref writes one event, a start and an end otherwise.
+      const bool planar = lo == hi;
+      out[0] = Event::make(lo, planar ? kPlanar : kStart, index);
+      out[1] = Event::make(hi, kEnd, index);
+      out += planar ? 1 : 2;
+    }
+    list.resize(static_cast<std::size_t>(out - list.data()));
+    // Built in ascending ref order, so the stable sort by (pos, type) gives the
+    // (pos, type, ref) order of Event::operator<.
+    if (list.size() >= kRadixSortMin) {
+      radix_sort_events(list, buffer);
+    } else {
+      std::sort(list.begin(), list.end());
+    }
   }
   return ev;
 }
@@ -119,20 +127,13 @@ SplitChoice sweep_axis(const EventVector& ev, int axis, std::size_t n, const Bou
   }
 }
 
-// The events of the reclipped refs of one child on `axis`, sorted, into `out`.
-// `reclipped` is ascending, so the radix sort (for long lists) gives operator<'s order.
-void regenerate_events(const std::vector<Ref>& refs, const std::vector<std::uint32_t>& reclipped, int axis,
+// The events of the reclipped refs of one child on `axis` (child ref indices `reclipped`,
+// ascending, with their new bounds `boxes`), sorted, into `out`. The indices ascend, so
+// the stable radix sort (for long lists) gives operator<'s order.
+void regenerate_events(const std::vector<std::uint32_t>& reclipped, const std::vector<Bounds3>& boxes, int axis,
                        EventVector& out, EventVector& buffer) {
   out.clear();
-  for (std::uint32_t r : reclipped) {
-    const Bounds3& b = refs[r].box;
-    if (b.lo[axis] == b.hi[axis]) {
-      out.push_back(Event::make(b.lo[axis], kPlanar, r));
-    } else {
-      out.push_back(Event::make(b.lo[axis], kStart, r));
-      out.push_back(Event::make(b.hi[axis], kEnd, r));
-    }
-  }
+  for (std::size_t j = 0; j < reclipped.size(); ++j) append_events(boxes[j], axis, reclipped[j], out);
   if (out.size() >= kRadixSortMin) {
     radix_sort_events(out, buffer);
   } else {
@@ -173,26 +174,30 @@ SplitChoice find_sah_split(const EventLists& events, std::size_t n, const Bounds
   return best;
 }
 
-void splice_events(const EventLists& parent, const std::vector<Ref>& left_refs, const std::vector<Ref>& right_refs,
-                   BuildScratch& scratch, EventLists& left, EventLists& right, bool parallel) {
+void splice_events(EventLists& parent, std::size_t left_refs, std::size_t right_refs, BuildScratch& scratch,
+                   EventLists& left, EventLists& right, SpliceTo to) {
+  const bool both = to == SpliceTo::Both;
   const std::uint8_t* side = scratch.side.data();
   const std::uint32_t* remap_left = scratch.remap_left.data();
   const std::uint32_t* remap_right = scratch.remap_right.data();
   constexpr std::uint32_t kTypeBits = ~((1u << 30) - 1);
-  auto splice_axis = [&](int a, EventVector& fresh_l, EventVector& fresh_r, EventVector& buffer) {
-    regenerate_events(left_refs, scratch.reclipped_left, a, fresh_l, buffer);
-    regenerate_events(right_refs, scratch.reclipped_right, a, fresh_r, buffer);
+  EventVector& fresh_l = scratch.fresh[0];
+  EventVector& fresh_r = scratch.fresh[1];
+  EventVector& buffer = scratch.fresh[2];
+  for (int a = 0; a < 3; ++a) {
+    regenerate_events(scratch.reclipped_left, scratch.reclipped_left_box, a, fresh_l, buffer);
+    if (both) regenerate_events(scratch.reclipped_right, scratch.reclipped_right_box, a, fresh_r, buffer);
     // Every child ref has at most two events per axis: the bound on the lists' sizes.
     EventVector& out_l = left.axis[a];
     EventVector& out_r = right.axis[a];
-    out_l.resize(2 * left_refs.size());
-    out_r.resize(2 * right_refs.size());
+    out_l.resize(2 * left_refs);
+    if (both) out_r.resize(2 * right_refs);
     Event* ol = out_l.data();
     Event* orr = out_r.data();
     const Event* fl = fresh_l.data();
     const Event* fr = fresh_r.data();
     const Event* const fl_end = fl + fresh_l.size();
-    const Event* const fr_end = fr + fresh_r.size();
+    const Event* const fr_end = both ? fr + fresh_r.size() : fr;
     for (const Event& e : parent.axis[a]) {
       const std::uint32_t r = e.ref();
       const std::uint8_t s = side[r];
@@ -200,22 +205,13 @@ void splice_events(const EventLists& parent, const std::vector<Ref>& left_refs, 
       // A ref that was not reclipped lies on exactly one side.
       if (s & kInLeft) {
         merge_one(Event{e.pos, (e.key & kTypeBits) | remap_left[r]}, fl, fl_end, ol);
-      } else {
+      } else if (both) {
         merge_one(Event{e.pos, (e.key & kTypeBits) | remap_right[r]}, fr, fr_end, orr);
       }
     }
-    ol = std::copy(fl, fl_end, ol);
-    orr = std::copy(fr, fr_end, orr);
-    out_l.resize(static_cast<std::size_t>(ol - out_l.data()));
-    out_r.resize(static_cast<std::size_t>(orr - out_r.data()));
-  };
-  if (parallel) {
-    EventVector fresh[3][3];
-    tbb::parallel_invoke([&] { splice_axis(0, fresh[0][0], fresh[0][1], fresh[0][2]); },
-                         [&] { splice_axis(1, fresh[1][0], fresh[1][1], fresh[1][2]); },
-                         [&] { splice_axis(2, fresh[2][0], fresh[2][1], fresh[2][2]); });
-  } else {
-    for (int a = 0; a < 3; ++a) splice_axis(a, scratch.fresh[0], scratch.fresh[1], scratch.fresh[2]);
+    out_l.resize(static_cast<std::size_t>(std::copy(fl, fl_end, ol) - out_l.data()));
+    if (both) out_r.resize(static_cast<std::size_t>(std::copy(fr, fr_end, orr) - out_r.data()));
+    if (!both) EventVector().swap(parent.axis[a]);
   }
 }
 

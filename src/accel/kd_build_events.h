@@ -9,13 +9,13 @@
 
 namespace lancer::kd {
 
-// Appends the events of `ref` (index `index` in its node's ref list) to the three lists:
-// a planar event where the box has no extent on an axis, else a start and an end event.
-void append_events(const Bounds3& box, std::uint32_t index, EventLists& out);
+// Appends the events on `axis` of a ref (index `index` in its node's ref list) with bounds
+// `box`: a planar event where the box has no extent on the axis, else a start and an end.
+void append_events(const Bounds3& box, int axis, std::uint32_t index, EventVector& out);
 
-// Events of all refs, each axis sorted by (position, type, ref). With `parallel` the
-// three axes are sorted at the same time; the result is the same either way.
-EventLists make_sorted_events(const std::vector<Ref>& refs, bool parallel);
+// Events of all refs, each axis sorted by (position, type, ref). One axis at a time, so
+// that one sort buffer at a time adds to the build's peak memory.
+EventLists make_sorted_events(const RefVector& refs);
 
 // The cheapest plane strictly inside `cell` on any axis whose cell extent is not zero,
 // by the SAH sweep over the sorted events of a node with `n` refs. Planar triangles on
@@ -28,11 +28,15 @@ SplitChoice find_sah_split(const EventLists& events, std::size_t n, const Bounds
 // Splices the parent's sorted events into the children (section 4.3) in one pass per
 // axis: events of refs that stay whole on one side keep their order and get the child's
 // ref index (scratch.remap_left/right); refs marked kReclipped in scratch.side straddled
-// the plane and got new bounds, so their events are regenerated from the child refs
-// (scratch.reclipped_left/right index left_refs/right_refs), sorted (few of them) and
-// merged in during the same pass. With `parallel` the three axes are spliced at the same
-// time, and `scratch.fresh` is not used.
-void splice_events(const EventLists& parent, const std::vector<Ref>& left_refs, const std::vector<Ref>& right_refs,
-                   BuildScratch& scratch, EventLists& left, EventLists& right, bool parallel);
+// the plane and got new bounds, so their events are made afresh from
+// scratch.reclipped_left/right and their boxes, sorted (few of them) and merged in during
+// the same pass. `left_refs` and `right_refs` are the children's ref counts.
+//
+// SpliceTo::LeftOnly (big nodes, see kd_build.cpp) leaves `right` empty, for the right
+// child to sort its own when it starts, and frees each axis of `parent` once spliced:
+// parent and left child then hold at most one axis of events both.
+enum class SpliceTo { Both, LeftOnly };
+void splice_events(EventLists& parent, std::size_t left_refs, std::size_t right_refs, BuildScratch& scratch,
+                   EventLists& left, EventLists& right, SpliceTo to);
 
 }  // namespace lancer::kd

@@ -77,41 +77,83 @@ bool partition_node(const TriangleSoA& tris, NodeInput& in, const SplitChoice& c
   }
   if (nl + nr > in.budget || nl + nr == 0) return false;
 
-  // Children's refs in ascending triangle index (the parent's order is kept).
+  // Child ref indices (children keep the parent's order, ascending triangle index), and
+  // the reclipped refs of each child with their new bounds, for their fresh events.
+  const bool both = !parallel;  // a big node gives events to its left child only
   std::vector<std::uint32_t>& remap_left = scratch.remap_left;
   std::vector<std::uint32_t>& remap_right = scratch.remap_right;
   remap_left.resize(n);
-  remap_right.resize(n);
+  if (both) remap_right.resize(n);
   scratch.reclipped_left.clear();
   scratch.reclipped_right.clear();
-  left.refs = scratch.take_refs();
-  right.refs = scratch.take_refs();
-  left.refs.reserve(nl);
-  right.refs.reserve(nr);
-  std::size_t k = 0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::uint8_t s = side[i];
-    const bool reclipped = (s & kReclipped) != 0;
-    if (s & kInLeft) {
-      remap_left[i] = static_cast<std::uint32_t>(left.refs.size());
-      if (reclipped) scratch.reclipped_left.push_back(remap_left[i]);
-      left.refs.push_back({in.refs[i].tri, reclipped ? clip_left[k] : in.refs[i].box});
+  scratch.reclipped_left_box.clear();
+  scratch.reclipped_right_box.clear();
+  {
+    std::size_t k = 0, il = 0, ir = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint8_t s = side[i];
+      const bool reclipped = (s & kReclipped) != 0;
+      if (s & kInLeft) {
+        remap_left[i] = static_cast<std::uint32_t>(il);
+        if (reclipped) {
+          scratch.reclipped_left.push_back(static_cast<std::uint32_t>(il));
+          scratch.reclipped_left_box.push_back(clip_left[k]);
+        }
+        ++il;
+      }
+      if (s & kInRight) {
+        if (both) remap_right[i] = static_cast<std::uint32_t>(ir);
+        if (reclipped && both) {
+          scratch.reclipped_right.push_back(static_cast<std::uint32_t>(ir));
+          scratch.reclipped_right_box.push_back(clip_right[k]);
+        }
+        ++ir;
+      }
+      if (reclipped) ++k;
     }
-    if (s & kInRight) {
-      remap_right[i] = static_cast<std::uint32_t>(right.refs.size());
-      if (reclipped) scratch.reclipped_right.push_back(remap_right[i]);
-      right.refs.push_back({in.refs[i].tri, reclipped ? clip_right[k] : in.refs[i].box});
-    }
-    if (reclipped) ++k;
   }
 
+  // Events first, refs after: a big node frees its events axis by axis while splicing, so
+  // that they are gone before the right child's refs are made (the build's peak memory).
   if (!in.events.empty()) {
     for (int a = 0; a < 3; ++a) {
       left.events.axis[a] = scratch.take_events();
       right.events.axis[a] = scratch.take_events();
     }
-    splice_events(in.events, left.refs, right.refs, scratch, left.events, right.events, parallel);
+    splice_events(in.events, nl, nr, scratch, left.events, right.events,
+                  both ? SpliceTo::Both : SpliceTo::LeftOnly);
   }
+
+  // A big node writes its left refs over its own, in place (each parent ref gives at most
+  // one left ref, so the write never overtakes the read): parent and children then hold
+  // n + nr refs at once instead of n + nl + nr. A small node keeps its vectors for reuse.
+  Ref* const parent = in.refs.data();
+  if (parallel) {
+    left.refs = std::move(in.refs);
+  } else {
+    left.refs = scratch.take_refs();
+    left.refs.reserve(nl);
+  }
+  right.refs = scratch.take_refs();
+  right.refs.reserve(nr);
+  std::size_t k = 0, next_left = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint8_t s = side[i];
+    const bool reclipped = (s & kReclipped) != 0;
+    const Ref r = parent[i];
+    if (s & kInLeft) {
+      const Ref out{r.tri, reclipped ? clip_left[k] : r.box};
+      if (parallel) {
+        parent[next_left] = out;
+      } else {
+        left.refs.push_back(out);
+      }
+      ++next_left;
+    }
+    if (s & kInRight) right.refs.push_back({r.tri, reclipped ? clip_right[k] : r.box});
+    if (reclipped) ++k;
+  }
+  if (parallel) left.refs.resize(nl);
 
   // Budget shares: budget * nl / (nl + nr) >= nl because nl + nr <= budget. The budget is
   // below 2^32 and nl below 2^30 (kd_build.cpp checks), so the product fits in 64 bits.

@@ -25,22 +25,27 @@ inline std::uint64_t radix_key(const Event& e) {
 inline constexpr std::size_t kRadixSortMin = 1024;
 
 // Sorts `events` by (pos, type), keeping the given order among equal keys. When the list
-// was built in ascending ref order, that is exactly Event::operator<'s order.
+// was built in ascending ref order, that is exactly Event::operator<'s order. The three
+// digit histograms are counted in one pass over the list, then three scatter passes.
 inline void radix_sort_events(EventVector& events, EventVector& buffer) {
   constexpr int kShift[3] = {0, 12, 23};
-  constexpr int kBits[3] = {12, 11, 11};
+  constexpr std::uint32_t kMask[3] = {(1u << 12) - 1, (1u << 11) - 1, (1u << 11) - 1};
   buffer.resize(events.size());
+  static thread_local std::uint32_t count[3][1u << 12];
+  for (int pass = 0; pass < 3; ++pass)
+    for (std::uint32_t d = 0; d <= kMask[pass]; ++d) count[pass][d] = 0;
+  for (const Event& e : events) {
+    const std::uint64_t key = radix_key(e);
+    for (int pass = 0; pass < 3; ++pass) ++count[pass][(key >> kShift[pass]) & kMask[pass]];
+  }
   EventVector* src = &events;
   EventVector* dst = &buffer;
-  std::uint32_t count[1u << 12];
   for (int pass = 0; pass < 3; ++pass) {
-    const std::uint32_t mask = (1u << kBits[pass]) - 1;
-    for (std::uint32_t d = 0; d <= mask; ++d) count[d] = 0;
-    for (const Event& e : *src) ++count[(radix_key(e) >> kShift[pass]) & mask];
+    std::uint32_t* c = count[pass];
     std::uint32_t offset = 0;
-    for (std::uint32_t d = 0; d <= mask; ++d) offset += std::exchange(count[d], offset);
+    for (std::uint32_t d = 0; d <= kMask[pass]; ++d) offset += std::exchange(c[d], offset);
     Event* out = dst->data();
-    for (const Event& e : *src) out[count[(radix_key(e) >> kShift[pass]) & mask]++] = e;
+    for (const Event& e : *src) out[c[(radix_key(e) >> kShift[pass]) & kMask[pass]]++] = e;
     std::swap(src, dst);
   }
   events.swap(buffer);  // three passes: the sorted list is in `buffer`

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "accel/kd_build.h"
+#include "simd/big_block_allocator.h"
 
 namespace lancer::kd {
 
@@ -34,28 +35,11 @@ struct Event {
   bool operator<(const Event& o) const { return pos < o.pos || (pos == o.pos && key < o.key); }
 };
 
-// std::allocator, except that resize() leaves new trivial elements uninitialised: event
-// lists are sized to a bound first and then written once, so zero-filling would be waste.
-template <typename T>
-struct UninitializedAllocator : std::allocator<T> {
-  template <typename U>
-  struct rebind {
-    using other = UninitializedAllocator<U>;
-  };
-  UninitializedAllocator() = default;
-  template <typename U>
-  UninitializedAllocator(const UninitializedAllocator<U>&) noexcept {}
-  template <typename U>
-  void construct(U* p) noexcept {
-    ::new (static_cast<void*>(p)) U;
-  }
-  template <typename U, typename... Args>
-  void construct(U* p, Args&&... args) {
-    ::new (static_cast<void*>(p)) U(std::forward<Args>(args)...);
-  }
-};
-
-using EventVector = std::vector<Event, UninitializedAllocator<Event>>;
+// The build's big lists (simd/big_block_allocator.h: big blocks go back to the system
+// when freed; resize() leaves new elements uninitialised, as lists are sized to a bound
+// and written once).
+using EventVector = BigBlockVector<Event>;
+using RefVector = BigBlockVector<Ref>;
 
 // One sorted event list per axis.
 struct EventLists {
@@ -65,7 +49,7 @@ struct EventLists {
 
 // Everything needed to build one node. Refs are in ascending triangle index.
 struct NodeInput {
-  std::vector<Ref> refs;
+  RefVector refs;
   EventLists events;  // empty for the Middle and Median strategies
   Bounds3 cell;
   int depth = 0;
@@ -82,10 +66,11 @@ enum SideFlags : std::uint8_t { kInLeft = 1, kInRight = 2, kReclipped = 4 };
 struct BuildScratch {
   std::vector<std::uint8_t> side;
   std::vector<std::uint32_t> straddling, remap_left, remap_right, reclipped_left, reclipped_right;
-  std::vector<Bounds3> clip_left, clip_right;
+  std::vector<Bounds3> clip_left, clip_right;  // per straddling ref
+  std::vector<Bounds3> reclipped_left_box, reclipped_right_box;  // per reclipped_left / _right entry
   EventVector fresh[3];  // regenerated events of reclipped refs (left, right, sort buffer), one axis at a time
 
-  std::vector<Ref> take_refs() { return take(spare_refs_); }
+  RefVector take_refs() { return take(spare_refs_); }
   EventVector take_events() { return take(spare_events_); }
   // Keeps the node's vectors for reuse (up to a bound) and leaves `in` empty.
   void recycle(NodeInput& in) {
@@ -108,7 +93,7 @@ struct BuildScratch {
     if (v.capacity() != 0 && spares.size() < kMaxSpares) spares.push_back(std::move(v));
     v = V();
   }
-  std::vector<std::vector<Ref>> spare_refs_;
+  std::vector<RefVector> spare_refs_;
   std::vector<EventVector> spare_events_;
 };
 

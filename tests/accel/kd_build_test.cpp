@@ -51,8 +51,8 @@ TEST(KdClip, FlatCellKeepsTrianglesInItsPlane) {
   EXPECT_EQ(b.hi.z, 0.5f);
 }
 
-std::vector<Ref> refs_of(const std::vector<Bounds3>& boxes) {
-  std::vector<Ref> refs;
+RefVector refs_of(const std::vector<Bounds3>& boxes) {
+  RefVector refs;
   for (std::size_t i = 0; i < boxes.size(); ++i) refs.push_back({static_cast<std::uint32_t>(i), boxes[i]});
   return refs;
 }
@@ -63,7 +63,7 @@ TEST(KdSweep, SeparatesTwoClusters) {
   for (int i = 0; i < 10; ++i) boxes.push_back({{0.0f, 0.0f, 0.0f}, {1.0f, 1.0f, 1.0f}});
   for (int i = 0; i < 10; ++i) boxes.push_back({{9.0f, 0.0f, 0.0f}, {10.0f, 1.0f, 1.0f}});
   const auto refs = refs_of(boxes);
-  const EventLists ev = make_sorted_events(refs, false);
+  const EventLists ev = make_sorted_events(refs);
   const Bounds3 cell{{0, 0, 0}, {10, 1, 1}};
   const SplitChoice c = find_sah_split(ev, refs.size(), cell, {1.0, 1.5, 0.8}, false);
   ASSERT_TRUE(c.found);
@@ -77,7 +77,7 @@ TEST(KdSweep, SeparatesTwoClusters) {
 TEST(KdSweep, EventOrderAndBoundaryPlanes) {
   std::vector<Bounds3> boxes = {{{0, 0, 0}, {1, 1, 0}}, {{1, 0, 0}, {2, 1, 0}}, {{1, 0, 0}, {1, 1, 0}}};
   const auto refs = refs_of(boxes);
-  const EventLists ev = make_sorted_events(refs, false);
+  const EventLists ev = make_sorted_events(refs);
   ASSERT_EQ(ev.axis[0].size(), 5u);
   EXPECT_EQ(ev.axis[0][1].pos, 1.0f);
   EXPECT_EQ(ev.axis[0][1].type(), kEnd);

@@ -2,24 +2,31 @@
 // from 10^4 to 10^7 triangles (issue 5's scaling plot; docs/performance.md). Exit codes: 0
 // done (points skipped for lack of memory are reported, not failures), 1 a point failed or
 // an output file could not be written, 2 bad options.
+#include <cstdlib>
 #include <exception>
 #include <iostream>
 #include <new>
 #include <sstream>
+#include <string>
 
 #include "report_json.h"
+#include "scaling_measure.h"
 #include "scaling_options.h"
 #include "scaling_points.h"
 #include "scaling_report.h"
+#include "simd/out_of_memory.h"
 
 namespace {
 
 using namespace lancer::bench;
 
 int run(int argc, char** argv) {
+  // The child process of measure_peak_in_child (not a user option).
+  if (argc == 4 && std::string(argv[1]) == kPeakChildOption) return run_peak_child(argv[2], std::atoi(argv[3]));
   int code = 0;
-  const auto options = parse_scaling_options(argc, argv, std::cout, std::cerr, code);
+  auto options = parse_scaling_options(argc, argv, std::cout, std::cerr, code);
   if (!options) return code;
+  options->settings.peak_program = this_executable();
   const std::vector<ScalingPoint> points =
       choose_scaling_points(options->generators, options->first_decade, options->last_decade, options->max_triangles);
   if (options->list) {
@@ -58,8 +65,8 @@ int run(int argc, char** argv) {
 int main(int argc, char** argv) {
   try {
     return run(argc, argv);
-  } catch (const std::bad_alloc&) {
-    std::cerr << "lancer-spd-scaling: error: out of memory\n";
+  } catch (const std::bad_alloc& e) {
+    std::cerr << "lancer-spd-scaling: error: " << lancer::out_of_memory_message(e) << "\n";
   } catch (const std::exception& e) {
     std::cerr << "lancer-spd-scaling: error: " << e.what() << "\n";
   }

@@ -8,6 +8,7 @@
 #include <sstream>
 
 #include "report_svg.h"
+#include "scaling_measure.h"
 
 namespace lancer::bench {
 
@@ -87,7 +88,13 @@ std::vector<std::string> generators_in_order(const std::vector<ScalingResult>& r
   return names;
 }
 
-bool measured(const ScalingResult& r) { return r.failure.empty(); }
+bool measured(const ScalingResult& r) { return r.failure.empty() || r.over_bound; }
+
+std::string peak_cells(const ScalingResult& r) {
+  if (r.peak_load_build_bytes < 0) return "n/a | n/a";
+  return fmt("%.1f", static_cast<double>(r.peak_load_build_bytes) / kMiB) + " | " +
+         fmt("%.1f", r.peak_bytes_per_triangle()) + (r.over_bound ? " (over the bound)" : "");
+}
 
 void draw_panel(std::ostringstream& o, const Panel& panel, double x0, const LogAxis& xa,
                 const std::vector<ScalingResult>& results, const std::vector<std::string>& generators) {
@@ -134,7 +141,7 @@ void draw_panel(std::ostringstream& o, const Panel& panel, double x0, const LogA
       std::ostringstream circles;
       int count = 0;
       for (const ScalingResult& r : results) {
-        if (r.point.spd != g || !measured(r)) continue;
+        if (r.point.spd != g || !measured(r) || !(q.value(r) > 0.0)) continue;
         const double x = x_of(static_cast<double>(r.point.triangles)), y = y_of(q.value(r));
         if (!points.empty()) points += ' ';
         points += num(x);
@@ -178,20 +185,22 @@ void write_scaling_markdown(const std::vector<ScalingResult>& results, const Sca
       << " runs per mode, in millions of rays per CPU second of the tracing thread. kd-tree build: one thread, "
          "CPU seconds, median of "
       << settings.builds << " builds up to " << grouped(settings.single_build_above)
-      << " triangles, one build above. Generation: wall seconds.\n\n";
-  out << "| scene | triangles | generate s | build CPU s | kd-tree MiB | bytes / triangle | packet Mrays/CPU-s "
-         "| single Mrays/CPU-s | packet / single |\n";
-  out << "|---|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+      << " triangles, one build above. Generation: wall seconds. Peak: resident memory of generating the scene "
+         "and building the tree, above what the process held before (Linux VmHWM, reset per point); the bound is "
+      << fmt("%.0f", kPeakBoundBytesPerTriangle) << " bytes per triangle.\n\n";
+  out << "| scene | triangles | generate s | build CPU s | kd-tree MiB | bytes / triangle | peak MiB | peak bytes / "
+         "triangle | packet Mrays/CPU-s | single Mrays/CPU-s | packet / single |\n";
+  out << "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
   for (const ScalingResult& r : results) {
     out << "| " << r.point.name() << " | " << grouped(r.point.triangles) << " | ";
     if (!measured(r)) {
-      out << r.failure << " | | | | | | |\n";
+      out << r.failure << " | | | | | | | | |\n";
       continue;
     }
     const double ratio = r.single.median > 0.0 ? r.packet.median / r.single.median : 0.0;
     out << fmt("%.2f", r.generate_ms / 1000.0) << " | " << fmt("%.3f", r.build_ms / 1000.0) << " | "
         << fmt("%.1f", static_cast<double>(r.accel_bytes) / kMiB) << " | " << fmt("%.1f", r.bytes_per_triangle())
-        << " | " << rate(r.packet) << " | " << rate(r.single) << " | " << fmt("%.2f", ratio) << "x |\n";
+        << " | " << peak_cells(r) << " | " << rate(r.packet) << " | " << rate(r.single) << " | " << fmt("%.2f", ratio) << "x |\n";
   }
 }
 
@@ -206,8 +215,10 @@ std::string scaling_svg(const std::vector<ScalingResult>& results, const Scaling
       {"kd-tree build, 1 thread",
        "CPU seconds",
        {{[](const ScalingResult& r) { return r.build_ms / 1000.0; }, "CPU s", false}}},
-      {"kd-tree memory", "MiB",
-       {{[](const ScalingResult& r) { return static_cast<double>(r.accel_bytes) / kMiB; }, "MiB", false}}},
+      {"memory per triangle", "bytes",
+       {{[](const ScalingResult& r) { return r.bytes_per_triangle(); }, "bytes/triangle (kd-tree)", false},
+        {[](const ScalingResult& r) { return r.peak_bytes_per_triangle(); },
+         "bytes/triangle (peak of generation + build)", true}}},
       {"primary rays, 1 thread", "Mrays per CPU second",
        {{[](const ScalingResult& r) { return r.packet.median; }, "Mrays/CPU-s (packet)", false},
         {[](const ScalingResult& r) { return r.single.median; }, "Mrays/CPU-s (single)", true}}},
@@ -228,7 +239,8 @@ std::string scaling_svg(const std::vector<ScalingResult>& results, const Scaling
     << "Haines' SPD scenes, 10⁴ to 10⁷ triangles: Lancer's kd-tree (log-log)</text>\n";
   o << "<text x=\"" << num(kPanelLeft) << "\" y=\"40\" fill=\"#444444\">" << isa_name(settings.isa) << "; primary rays "
     << settings.image << " x " << settings.image << ", median of " << settings.reps
-    << " runs; CPU time of the one working thread; packet solid, single-ray dashed (open circles)</text>\n";
+    << " runs; CPU time of the one working thread; rays: packet solid, single-ray dashed (open circles); memory: "
+       "kd-tree solid, peak of generation + build dashed</text>\n";
   for (std::size_t p = 0; p < panels.size(); ++p) {
     const double x0 = kPanelLeft + static_cast<double>(p) * (kPanelLeft + kPanelWidth + kPanelGap);
     draw_panel(o, panels[p], x0, xa, results, generators);

@@ -83,6 +83,7 @@ TEST(SpdScalingMeasure, TinyTetraIsMeasuredAndChecked) {
   ScalingSettings settings;
   settings.image = 32;
   settings.reps = 3;
+  settings.peak_program = LANCER_SPD_SCALING_BINARY;
   std::ostringstream log;
   const ScalingResult r = measure_scaling_point({"tetra", 4, 256}, settings, -1, log);
   ASSERT_TRUE(r.failure.empty()) << r.failure;
@@ -91,6 +92,8 @@ TEST(SpdScalingMeasure, TinyTetraIsMeasuredAndChecked) {
   EXPECT_GT(r.build_ms, 0.0);
   EXPECT_GT(r.accel_bytes, 256u * 9 * sizeof(float)) << "the tree holds at least the triangles";
   EXPECT_DOUBLE_EQ(r.bytes_per_triangle(), static_cast<double>(r.accel_bytes) / 256.0);
+  // Measured in a child process (256 triangles may fit in what the warm-up left resident).
+  EXPECT_GE(r.peak_load_build_bytes, 0);
   EXPECT_EQ(r.rays, 32u * 32u);
   EXPECT_GT(r.hits, r.rays / 10) << "the SPD view looks at the tetrahedra";
   EXPECT_LT(r.hits, r.rays);
@@ -103,12 +106,25 @@ TEST(SpdScalingMeasure, TinyTetraIsMeasuredAndChecked) {
   EXPECT_NE(log.str().find("[done] tetra-4"), std::string::npos) << log.str();
 }
 
+// Issue 15's memory bound on a quarter-million-triangle scene: the peak of generating it
+// and building its tree, above a process that has built a tree before, in a child.
+TEST(SpdScalingMeasure, PeakOfGenerationAndBuildIsWithinTheBound) {
+  std::string error;
+  const ScalingPoint balls{"balls", 3, 262'402};
+  const std::int64_t peak = measure_peak_in_child(LANCER_SPD_SCALING_BINARY, balls, error);
+  ASSERT_GT(peak, 0) << error;
+  EXPECT_LE(static_cast<double>(peak) / static_cast<double>(balls.triangles), kPeakBoundBytesPerTriangle)
+      << peak << " bytes at the peak";
+  EXPECT_LT(measure_peak_in_child("", balls, error), 0);
+  EXPECT_NE(error.find("no program"), std::string::npos) << error;
+}
+
 TEST(SpdScalingMeasure, TooLittleMemoryIsASkipNotAnAttempt) {
   std::ostringstream log;
-  // 400 bytes per triangle: 4.05e9 bytes, 3.8 GiB.
+  // 300 bytes per triangle: 3.04e9 bytes, 2.8 GiB.
   const ScalingResult r = measure_scaling_point({"gears", 26, 10'123'778}, {}, 1'000'000'000, log);
   EXPECT_TRUE(r.skipped);
-  EXPECT_NE(r.failure.find("skipped: needs about 3.8 GiB, 0.9 GiB available"), std::string::npos) << r.failure;
+  EXPECT_NE(r.failure.find("skipped: needs about 2.8 GiB, 0.9 GiB available"), std::string::npos) << r.failure;
   EXPECT_EQ(r.build_runs, 0);
   EXPECT_NE(log.str().find("[skip] gears-26"), std::string::npos);
   // Enough memory: no skip (a point that fails for another reason shows it is attempted).
@@ -141,6 +157,7 @@ ScalingResult made(const char* spd, int size, std::uint64_t triangles, double bu
   r.build_ms = build_ms;
   r.build_runs = 1;
   r.accel_bytes = static_cast<std::size_t>(triangles) * 100;
+  r.peak_load_build_bytes = static_cast<std::int64_t>(triangles) * 150;
   r.packet = {mrays, mrays * 0.9, mrays * 1.1};
   r.single = {mrays / 4, mrays / 4, mrays / 4};
   return r;
@@ -162,8 +179,8 @@ TEST(SpdScalingReport, MarkdownRowPerPointWithReasonsForTheMissingOnes) {
   write_scaling_markdown(sample_results(), ScalingSettings{}, o);
   const std::string md = o.str();
   EXPECT_EQ(count(md, "\n| "), 7u) << md;  // header and six rows
-  EXPECT_NE(md.find("| tetra-8 | 100,000 | 0.00 | 0.060 | 9.5 | 100.0 | 30.00 (27.00-33.00) | 7.50 (7.50-7.50) | "
-                    "4.00x |"),
+  EXPECT_NE(md.find("| tetra-8 | 100,000 | 0.00 | 0.060 | 9.5 | 100.0 | 14.3 | 150.0 | 30.00 (27.00-33.00) | "
+                    "7.50 (7.50-7.50) | 4.00x |"),
             std::string::npos)
       << md;
   EXPECT_NE(md.find("| gears-26 | 10,123,778 | skipped: needs about 5.7 GiB, 2.0 GiB available |"), std::string::npos)
@@ -199,29 +216,32 @@ TEST(SpdScalingReport, SvgHasThreeLogLogPanelsWithASeriesPerGenerator) {
   const std::string svg = scaling_svg(sample_results(), ScalingSettings{});
   EXPECT_EQ(svg.rfind("<svg", 0), 0u);
   EXPECT_NE(svg.find("</svg>"), std::string::npos);
-  // Two generators with two or more measured points: build, memory, packet and single.
-  EXPECT_EQ(count(svg, "<polyline class=\"series\""), 2u * 4);
-  EXPECT_EQ(count(svg, "stroke-dasharray"), 2u) << "single-ray series are dashed";
-  // Five measured points, each drawn as build, memory, packet and single.
-  EXPECT_EQ(count(svg, "<circle class=\"point\""), 5u * 4);
+  // Two generators with two or more measured points: build, kd-tree memory, peak memory,
+  // packet and single.
+  EXPECT_EQ(count(svg, "<polyline class=\"series\""), 2u * 5);
+  EXPECT_EQ(count(svg, "stroke-dasharray"), 4u) << "single-ray and peak-memory series are dashed";
+  // Five measured points, each drawn as build, kd-tree memory, peak memory, packet, single.
+  EXPECT_EQ(count(svg, "<circle class=\"point\""), 5u * 5);
   EXPECT_NE(svg.find("not measured: gears-26 (10,123,778): skipped"), std::string::npos);
-  for (const char* title : {"kd-tree build, 1 thread", "kd-tree memory", "primary rays, 1 thread"})
+  for (const char* title : {"kd-tree build, 1 thread", "memory per triangle", "primary rays, 1 thread"})
     EXPECT_NE(svg.find(title), std::string::npos) << title;
   EXPECT_NE(svg.find("10⁴"), std::string::npos);
   EXPECT_NE(svg.find("10⁶"), std::string::npos);
 
   // Log x: in the first panel, tetra's 10^4, 10^5 and 10^6 points are equally spaced,
-  // and gears' points share their x. Memory is 100 bytes per triangle, so in the second
-  // panel the y steps are equal too (a straight line of slope 1 on log-log).
+  // and gears' points share their x. The kd-tree holds 100 bytes per triangle at every
+  // size and the peak 150: two flat lines in the second panel, the peak above.
   const std::vector<double> cx = attribute_values(svg, "circle", "cx"), cy = attribute_values(svg, "circle", "cy");
-  ASSERT_EQ(cx.size(), 20u);
-  ASSERT_EQ(cy.size(), 20u);
+  ASSERT_EQ(cx.size(), 25u);
+  ASSERT_EQ(cy.size(), 25u);
   EXPECT_NEAR(cx[1] - cx[0], cx[2] - cx[1], 0.11);
   EXPECT_GT(cx[1] - cx[0], 20.0);
   EXPECT_NEAR(cx[3], cx[0], 0.01);  // gears-3 and tetra-7: both 10^4 triangles
   EXPECT_NEAR(cx[4], cx[1], 0.01);
-  EXPECT_NEAR(cy[6] - cy[5], cy[7] - cy[6], 0.11);  // memory panel, tetra
-  EXPECT_LT(cy[6], cy[5]) << "larger values are drawn higher";
+  EXPECT_NEAR(cy[6], cy[5], 0.01);  // memory panel, kd-tree, tetra
+  EXPECT_NEAR(cy[7], cy[5], 0.01);
+  EXPECT_LT(cy[10], cy[5]) << "the peak (150) is drawn above the kd-tree (100)";
+  EXPECT_LT(cy[15], cy[16]) << "larger values are drawn higher (packet rates 40 and 30)";
   EXPECT_GT(cx[5], cx[2]) << "the second panel is to the right of the first";
   // The escaping of the left-out line.
   const std::string escaped = scaling_svg({made("tetra", 7, 10'000, 5, 40), [] {

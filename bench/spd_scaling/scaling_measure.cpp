@@ -28,6 +28,7 @@
 #include "bench_trace.h"
 #include "render/ray_sets.h"
 #include "simd/out_of_memory.h"
+#include "simd/process_memory.h"
 #include "simd/release_free_memory.h"
 
 namespace lancer::bench {
@@ -156,15 +157,6 @@ void measure(const ScalingPoint& point, const ScalingSettings& settings, Scaling
 
 namespace {
 
-// A "Key:   123 kB" line of /proc/self/status, in bytes, or -1.
-std::int64_t status_kib_line(const std::string& wanted) {
-  std::ifstream in("/proc/self/status");
-  std::string line;
-  while (std::getline(in, line))
-    if (line.compare(0, wanted.size(), wanted) == 0) return 1024 * std::atoll(line.c_str() + wanted.size());
-  return -1;
-}
-
 SuiteScene spd_entry(const std::string& spd, int size) {
   SuiteScene entry;
   entry.name = spd + "-" + std::to_string(size);
@@ -188,13 +180,13 @@ int run_peak_child(const std::string& spd, int size) {
       (void)kd;
     }
     release_free_memory();  // what the warm-up freed must not serve the point unseen
-    const std::int64_t before = status_kib_line("VmRSS:");
+    const std::int64_t before = resident_bytes();
     {
       const BenchScene bench = load_bench_scene(spd_entry(spd, size), 8);
       const KdTree kd(bench.scene.triangles, KdBuildOptions{});
       (void)kd;
     }
-    const std::int64_t peak = status_kib_line("VmHWM:");
+    const std::int64_t peak = peak_resident_bytes();
     if (before < 0 || peak < 0) throw std::runtime_error("cannot read /proc/self/status");
     std::printf("peak_bytes %lld\n", static_cast<long long>(peak - before));
     return 0;

@@ -11,6 +11,7 @@
 #include "app/render_command.h"
 #include "scene/load_scene.h"
 #include "simd/out_of_memory.h"
+#include "simd/process_memory.h"
 
 namespace lancer {
 
@@ -43,6 +44,13 @@ int run_info(const InfoOptions& opt, std::ostream& out, std::ostream& err) {
     } else {
       std::snprintf(line, sizeof line, "accel:      %s, built in %.1f ms, %zu bytes\n",
                     std::string(accel->name()).c_str(), ms, accel->memory_bytes());
+      out << line;
+    }
+    // What loading and building took at their peak, the whole process counted.
+    if (const std::int64_t peak = peak_resident_bytes(); peak > 0) {
+      std::snprintf(line, sizeof line, "peak memory: %.1f MiB resident (%.1f bytes per triangle)\n",
+                    static_cast<double>(peak) / (1024.0 * 1024.0),
+                    static_cast<double>(peak) / static_cast<double>(scene.triangle_count()));
       out << line;
     }
     return 0;

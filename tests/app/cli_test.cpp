@@ -232,7 +232,8 @@ TEST(Cli, InfoDescribesTheScene) {
   EXPECT_NE(r.out.find("triangles:"), std::string::npos);
   EXPECT_NE(r.out.find("bounds:"), std::string::npos);
   for (const char* stat : {"nodes:", "leaves:", "empty leaves:", "max leaf depth:", "mean leaf depth:",
-                           "triangles / leaf:", "SAH cost:", "bytes / triangle:", "build time:"})
+                           "triangles / leaf:", "SAH cost:", "bytes / triangle:", "build time:",
+                           "peak memory:"})
     EXPECT_NE(r.out.find(stat), std::string::npos) << stat;
 }
 

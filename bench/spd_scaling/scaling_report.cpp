@@ -186,7 +186,8 @@ void write_scaling_markdown(const std::vector<ScalingResult>& results, const Sca
          "CPU seconds, median of "
       << settings.builds << " builds up to " << grouped(settings.single_build_above)
       << " triangles, one build above. Generation: wall seconds. Peak: resident memory of generating the scene "
-         "and building the tree, above what the process held before (Linux VmHWM, reset per point); the bound is "
+         "and building the tree, above what the process held before (Linux VmHWM, a child process per point); the "
+         "bound is "
       << fmt("%.0f", kPeakBoundBytesPerTriangle) << " bytes per triangle.\n\n";
   out << "| scene | triangles | generate s | build CPU s | kd-tree MiB | bytes / triangle | peak MiB | peak bytes / "
          "triangle | packet Mrays/CPU-s | single Mrays/CPU-s | packet / single |\n";

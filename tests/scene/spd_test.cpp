@@ -224,8 +224,11 @@ bool same_bits(const Scene& a, const Scene& b) {
         std::memcmp(a.triangles.z[k].data(), b.triangles.z[k].data(), bytes) != 0)
       return false;
   }
-  return a.material_id == b.material_id && a.attrib_flags == b.attrib_flags &&
-         std::memcmp(a.normals.data(), b.normals.data(), a.normals.size() * sizeof(glm::vec3)) == 0 &&
+  // Normals may be absent: an empty array, whose data() may be null (no memcmp then).
+  const bool same_normals =
+      a.normals.size() == b.normals.size() &&
+      (a.normals.empty() || std::memcmp(a.normals.data(), b.normals.data(), a.normals.size() * sizeof(glm::vec3)) == 0);
+  return a.material_id == b.material_id && a.attrib_flags == b.attrib_flags && same_normals &&
          a.materials.size() == b.materials.size() && a.lights.size() == b.lights.size();
 }
 

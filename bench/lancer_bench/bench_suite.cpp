@@ -35,16 +35,6 @@ bool is_mesh_file(const fs::path& p) {
   return ext == ".obj" || ext == ".gltf" || ext == ".glb";
 }
 
-SuiteScene spd_entry(const std::string& generator, int size) {
-  SuiteScene s;
-  s.name = generator + "-" + std::to_string(size);
-  s.origin = "spd";
-  s.kind = SuiteScene::Kind::Spd;
-  s.spd = generator;
-  s.spd_size = size;
-  return s;
-}
-
 // "<generator>-<size>" with a known generator and a size in its range, else nothing.
 std::optional<SuiteScene> parse_spd_name(const std::string& name) {
   const std::size_t dash = name.rfind('-');
@@ -90,6 +80,16 @@ bool has_light(const Scene& scene) {
 }
 
 }  // namespace
+
+SuiteScene spd_entry(const std::string& generator, int size) {
+  SuiteScene s;
+  s.name = generator + "-" + std::to_string(size);
+  s.origin = "spd";
+  s.kind = SuiteScene::Kind::Spd;
+  s.spd = generator;
+  s.spd_size = size;
+  return s;
+}
 
 std::vector<SuiteScene> default_suite(const fs::path& scenes_dir, const fs::path& models_dir) {
   std::vector<SuiteScene> suite;

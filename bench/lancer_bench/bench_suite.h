@@ -52,4 +52,7 @@ struct BenchScene {
 // std::invalid_argument as the readers and generators do.
 BenchScene load_bench_scene(const SuiteScene& entry, int size);
 
+// The suite entry of SPD generator `generator` at `size`, named "<generator>-<size>".
+SuiteScene spd_entry(const std::string& generator, int size);
+
 }  // namespace lancer::bench

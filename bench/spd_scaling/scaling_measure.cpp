@@ -94,14 +94,8 @@ void measure(const ScalingPoint& point, const ScalingSettings& settings, Scaling
   one_thread.initialize();
   check_single_threaded(one_thread);
 
-  SuiteScene entry;
-  entry.name = point.name();
-  entry.origin = "spd";
-  entry.kind = SuiteScene::Kind::Spd;
-  entry.spd = point.spd;
-  entry.spd_size = point.size;
   auto start = Clock::now();
-  auto bench = std::make_unique<BenchScene>(load_bench_scene(entry, settings.image));
+  auto bench = std::make_unique<BenchScene>(load_bench_scene(spd_entry(point.spd, point.size), settings.image));
   r.generate_ms = ms_since(start);
   if (bench->scene.triangle_count() != point.triangles)
     throw std::runtime_error("generated " + std::to_string(bench->scene.triangle_count()) +
@@ -151,20 +145,6 @@ void measure(const ScalingPoint& point, const ScalingSettings& settings, Scaling
     throw std::runtime_error("the timed runs gave other answers than the checked run");
   r.packet = summarize(packet_runs, rays.size());
   r.single = summarize(single_runs, rays.size());
-}
-
-}  // namespace
-
-namespace {
-
-SuiteScene spd_entry(const std::string& spd, int size) {
-  SuiteScene entry;
-  entry.name = spd + "-" + std::to_string(size);
-  entry.origin = "spd";
-  entry.kind = SuiteScene::Kind::Spd;
-  entry.spd = spd;
-  entry.spd_size = size;
-  return entry;
 }
 
 }  // namespace

@@ -65,13 +65,15 @@ bool SceneBuilder::add_triangle(const glm::vec3 p[3], std::uint32_t material, st
       const float len = glm::length(n[k]);
       if (!(len > 0.0f) || !std::isfinite(len)) {
         ++scene_.stats.zero_normals_repaired;
-        n[k] = glm::vec3(0.0f);  // the flag stays clear: shading falls back to the geometric normal
         all_valid = false;
       } else {
         n[k] /= len;
       }
     }
-    append_corners(scene_.normals, n, earlier_corners, capacity);
+    // A triangle with an unusable corner normal keeps none (zeros, flag clear: shading
+    // uses the geometric normal), as scene.h promises, so the array stays empty when no
+    // triangle has usable normals.
+    append_corners(scene_.normals, all_valid ? n : nullptr, earlier_corners, capacity);
     if (all_valid) flags |= kHasNormals;
   } else {
     append_corners<glm::vec3>(scene_.normals, nullptr, earlier_corners, capacity);

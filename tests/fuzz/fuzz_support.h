@@ -95,15 +95,23 @@ inline void check_scene(const Scene& scene) {
             "triangle SoA arrays of different lengths");
   require(scene.material_id.size() == n && scene.source_triangle_id.size() == n && scene.attrib_flags.size() == n,
           "per-triangle arrays do not match the triangle count");
-  require(scene.normals.size() == 3 * n && scene.texcoords.size() == 3 * n && scene.tangents.size() == 3 * n,
-          "per-corner arrays do not match 3x the triangle count");
-  require(scene.texcoords1.empty() || scene.texcoords1.size() == 3 * n, "TEXCOORD_1 neither empty nor per corner");
+  // Each per-corner array is empty exactly when no triangle has its attribute.
+  const auto check_corners = [&](std::size_t size, std::uint8_t bit, const char* what) {
+    bool any = false;
+    for (std::uint8_t flags : scene.attrib_flags) any = any || (flags & bit) != 0;
+    require(size == (any ? 3 * n : 0), std::string(what) + (any ? ": some triangle has it but the array is not 3x the triangle count"
+                                                               : ": no triangle has it but the array is not empty"));
+  };
+  check_corners(scene.normals.size(), kHasNormals, "normals");
+  check_corners(scene.texcoords.size(), kHasTexcoords, "texcoords");
+  check_corners(scene.tangents.size(), kHasTangents, "tangents");
+  check_corners(scene.texcoords1.size(), kHasTexcoords1, "TEXCOORD_1");
   require(!scene.materials.empty(), "a loaded scene has no material");
   for (std::size_t i = 0; i < n; ++i) {
     for (int k = 0; k < 3; ++k) require(finite(scene.triangles.vertex(i, k)), "non-finite vertex position");
     require(scene.material_id[i] < scene.materials.size(), "material id out of range");
   }
-  for (std::size_t c = 0; c < 3 * n; ++c) {
+  for (std::size_t c = 0; c < scene.normals.size(); ++c) {
     const float len = glm::length(scene.normals[c]);
     require(len == 0.0f || std::fabs(len - 1.0f) < 1e-3f, "a corner normal is neither unit length nor zero");
   }

@@ -110,7 +110,17 @@ TEST(SceneBuilder, ZeroLengthNormalsFallBackToTheGeometricNormal) {
   ASSERT_TRUE(b.add_triangle(p, 0, 0, attribs));
   EXPECT_EQ(scene.attrib_flags[0] & kHasNormals, 0);
   EXPECT_EQ(scene.stats.zero_normals_repaired, 1u);
-  EXPECT_EQ(scene.normals[0], glm::vec3(0, 0, 1));  // normalised
+  EXPECT_TRUE(scene.normals.empty()) << "no triangle has usable normals yet";
+
+  // A later triangle with usable normals: the first one's corners are zeros (scene.h's
+  // contract for a clear flag), the second's are normalised.
+  const glm::vec3 good[3] = {{0, 0, 2}, {0, 0, 1}, {0, 0, 3}};
+  attribs.normals = good;
+  ASSERT_TRUE(b.add_triangle(p, 0, 1, attribs));
+  ASSERT_EQ(scene.normals.size(), 6u);
+  for (int c = 0; c < 3; ++c) EXPECT_EQ(scene.normals[c], glm::vec3(0.0f)) << c;
+  for (int c = 3; c < 6; ++c) EXPECT_EQ(scene.normals[c], glm::vec3(0, 0, 1)) << c;
+  EXPECT_EQ(scene.attrib_flags[1] & kHasNormals, kHasNormals);
 }
 
 }  // namespace

@@ -93,15 +93,27 @@ inline NodeWords read_node(const KdNode* nodes, std::uint32_t i) {
 }
 
 // The traversal's per-ray constants, in float or (rare rays) double.
+//
+// Where the slack goes. The rule above compares each plane crossing, widened by its slack,
+// with the cell's widened interval: visit the near child when tp + slack(tp) >= tmin. That
+// puts the slack's multiply and add between the plane distance and the choice of the next
+// node, on the one dependency chain a descent is made of. Instead each interval bound is
+// stored already widened by wide(t) = 3 slack(t), and the choice compares tp itself:
+// near when tp >= tmin, far when tp <= tmax; the slack is computed beside the chain, for
+// the children's bounds only. This visits every cell the rule above visits and stops no
+// sooner (with r = the relative slack, below 1/3: tp < tp0 - 3 slack(tp0) implies
+// tp + slack(tp) < tp0 - (2 - 3r) slack(tp0) <= tp0 - slack(tp0), and the same mirrored;
+// a stored entry tp - 3 slack(tp) lies below the old entry tp - slack(tp) less its own
+// slack, so "skip when best < entry" skips no cell the old rule would enter).
 template <typename Real>
 struct TravRay {
   Real org[3];
   Real inv_dir[3];
   bool parallel[3];
   std::uint32_t negative[3];  // 1 when the right child comes first
-  Real abs_slack;
+  Real wide_abs;               // 3 * abs_slack
 
-  Real slack(Real t) const { return (t < Real(0) ? -t : t) * Real(kKdRelativeSlack) + abs_slack; }
+  Real wide(Real t) const { return (t < Real(0) ? -t : t) * Real(3 * kKdRelativeSlack) + wide_abs; }
 };
 
 template <typename Real>
@@ -125,14 +137,17 @@ inline TravRay<Real> make_trav_ray(const Ray& ray, const KdRaySetup& s, Real& tm
     }
   }
   if constexpr (std::is_same_v<Real, float>) {
-    tr.abs_slack = s.abs_slack_f;
+    tr.wide_abs = 3.0f * s.abs_slack_f;
     tmin = s.t0_f;
     tmax = s.t1_f;
   } else {
-    tr.abs_slack = s.abs_slack;
+    tr.wide_abs = 3.0 * s.abs_slack;
     tmin = s.t0;
     tmax = s.t1;
   }
+  // The root interval in the stored (wide) form.
+  tmin -= tr.wide(tmin);
+  tmax += tr.wide(tmax);
   return tr;
 }
 
@@ -145,7 +160,8 @@ enum class StepForm { Select, Branch };
 
 // Moves from an inner node to the child (or children) the ray's interval overlaps.
 // Returns the node to visit next and narrows [tmin, tmax]; pushes the far child when both
-// are visited. Both forms visit the same cells in the same order.
+// are visited. Both forms visit the same cells in the same order. The bounds are in the
+// wide form (TravRay): the choice reads tp alone, the slack only the children's bounds.
 template <StepForm Form, typename Real>
 inline std::uint32_t descend(NodeWords n, const TravRay<Real>& tr, Real& tmin, Real& tmax, StackEntry<Real>* stack,
                              int& sp) {
@@ -159,12 +175,12 @@ inline std::uint32_t descend(NodeWords n, const TravRay<Real>& tr, Real& tmin, R
     return left;
   }
   const Real tp = (split - tr.org[a]) * tr.inv_dir[a];
-  const Real s = tr.slack(tp);
-  const Real lo = tp - s, hi = tp + s;
   const std::uint32_t first = left + tr.negative[a];
   const std::uint32_t second = left + 1 - tr.negative[a];
-  const bool visit_first = hi >= tmin;
-  const bool visit_second = lo <= tmax;
+  const bool visit_first = tp >= tmin;
+  const bool visit_second = tp <= tmax;
+  const Real w = tr.wide(tp);
+  const Real lo = tp - w, hi = tp + w;
   if constexpr (Form == StepForm::Branch) {
     if (visit_first && visit_second) {
       stack[sp++] = {second, lo > tmin ? lo : tmin, tmax};
@@ -179,7 +195,7 @@ inline std::uint32_t descend(NodeWords n, const TravRay<Real>& tr, Real& tmin, R
     return second;
   }
   // Select form: the far cell's entry is always written and kept only when both cells are
-  // visited (at least one always is: lo <= hi and tmin <= tmax).
+  // visited (at least one always is: tmin <= tmax).
   const Real far_min = lo > tmin ? lo : tmin;
   const Real near_max = hi < tmax ? hi : tmax;
   stack[sp] = {second, far_min, tmax};
@@ -280,7 +296,7 @@ __attribute__((always_inline)) inline LaneTest<N> test_relative(vfloat<N> Ax, vf
 
 // Watertight test of N consecutive slots (`lanes` points at lane 0 of the x row of vertex
 // 0 in their block), in watertight.h's order of operations.
-template <int N, int B>
+template <int N, int B, bool EarlyOut = false>
 inline LaneTest<N> test_lanes(const float* lanes, const LeafRay<N>& r, vfloat<N> limit) {
   const Lanes<N> w;
   const vfloat<N> Ax = load(w, lanes + r.row_x) - r.ox, Ay = load(w, lanes + r.row_y) - r.oy;
@@ -289,7 +305,7 @@ inline LaneTest<N> test_lanes(const float* lanes, const LeafRay<N>& r, vfloat<N>
   const vfloat<N> Bz = load(w, lanes + r.row_z + B) - r.oz;
   const vfloat<N> Cx = load(w, lanes + r.row_x + 2 * B) - r.ox, Cy = load(w, lanes + r.row_y + 2 * B) - r.oy;
   const vfloat<N> Cz = load(w, lanes + r.row_z + 2 * B) - r.oz;
-  return test_relative<N>(Ax, Ay, Az, Bx, By, Bz, Cx, Cy, Cz, r.sx, r.sy, r.sz, r.tnear, limit);
+  return test_relative<N, EarlyOut>(Ax, Ay, Az, Bx, By, Bz, Cx, Cy, Cz, r.sx, r.sy, r.sz, r.tnear, limit);
 }
 
 // Counting hooks: NoCounts compiles to nothing.
@@ -332,7 +348,7 @@ Hit closest(const KdTreeView& tree, const Ray& ray, const KdRaySetup& setup, Cou
     for (std::uint32_t slot = first; slot < end; slot += N) {
       counter.tests(end - slot < std::uint32_t(N) ? end - slot : std::uint32_t(N));
       const float* lanes = tree.blocks + std::size_t(slot / B) * (9 * B) + slot % B;
-      const LaneTest<N> lt = test_lanes<N, B>(lanes, lr, vfloat<N>(limit));
+      const LaneTest<N> lt = test_lanes<N, B, true>(lanes, lr, vfloat<N>(limit));
       int todo = lt.hit_bits | lt.zero_bits;
       if (todo == 0) continue;
       alignas(64) float ts[N], vs[N], ws[N], dets[N];
@@ -364,7 +380,7 @@ Hit closest(const KdTreeView& tree, const Ray& ray, const KdRaySetup& setup, Cou
     for (;;) {
       if (sp == 0) return best_prim == kNoHit ? miss() : Hit{best_t, best_prim, best_u, best_v};
       const StackEntry<Real>& e = stack[--sp];
-      if (Real(best_t) < e.tmin - tr.slack(e.tmin)) continue;
+      if (Real(best_t) < e.tmin) continue;  // e.tmin is wide: already less its slack
       node = e.node;
       tmin = e.tmin;
       tmax = e.tmax;
@@ -394,7 +410,7 @@ bool any_hit(const KdTreeView& tree, const Ray& ray, const KdRaySetup& setup, Co
     for (std::uint32_t slot = first; slot < end; slot += N) {
       counter.tests(end - slot < std::uint32_t(N) ? end - slot : std::uint32_t(N));
       const float* lanes = tree.blocks + std::size_t(slot / B) * (9 * B) + slot % B;
-      const LaneTest<N> lt = test_lanes<N, B>(lanes, lr, limit);
+      const LaneTest<N> lt = test_lanes<N, B, true>(lanes, lr, limit);
       if (lt.hit_bits != 0) return true;
       for (int todo = lt.zero_bits; todo != 0; todo &= todo - 1) {
         float tuv[3];

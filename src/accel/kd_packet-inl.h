@@ -577,25 +577,13 @@ void packet(const KdTreeView& tree, const Ray* rays, Hit* hits, int count, bool 
     p.limit[i] = r.tfar;
     p.best_t[i] = r.tfar;
     p.best_det[i] = 1.0f;
-    // WatertightRay's permutation and shear.
-    float ad[3];
-    for (int a = 0; a < 3; ++a) ad[a] = d[a] < 0.0f ? -d[a] : d[a];
-    const int kz = (ad[0] > ad[1]) ? (ad[0] > ad[2] ? 0 : 2) : (ad[1] > ad[2] ? 1 : 2);
-    int kx = kz == 2 ? 0 : kz + 1;
-    int ky = kx == 2 ? 0 : kx + 1;
-    const bool swapped = d[kz] < 0.0f;
-    if (swapped) {
-      const int k = kx;
-      kx = ky;
-      ky = k;
+    // WatertightRay's permutation and shear: the packets' own routine at width 1.
+    const kdr::ShearLanes<1> sh = kdr::shear_lanes<1>(o, d);
+    for (int k = 0; k < 3; ++k) {
+      p.sorg[k][i] = sh.sorg[k];
+      p.shear[k][i] = sh.shear[k];
+      if (sh.kz[k]) p.klass[2 * k + (sh.swapped ? 1 : 0)] |= 1ull << i;
     }
-    p.sorg[0][i] = o[kx];
-    p.sorg[1][i] = o[ky];
-    p.sorg[2][i] = o[kz];
-    p.shear[0][i] = d[kx] / d[kz];
-    p.shear[1][i] = d[ky] / d[kz];
-    p.shear[2][i] = 1.0f / d[kz];
-    p.klass[2 * kz + (swapped ? 1 : 0)] |= 1ull << i;
     packet |= 1ull << i;
   }
   const int nvec = (count + N - 1) / N;

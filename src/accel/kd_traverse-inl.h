@@ -57,6 +57,7 @@
 #include <type_traits>
 
 #include "accel/kd_node.h"
+#include "accel/kd_ray_setup-inl.h"
 #include "accel/kd_traverse.h"
 #include "accel/kd_traverse_setup.h"
 #include "accel/ray.h"
@@ -219,23 +220,22 @@ struct LeafRay {
 template <int N, int B>
 inline LeafRay<N> make_leaf_ray(const Ray& r) {
   const float d[3] = {r.dir.x, r.dir.y, r.dir.z}, o[3] = {r.org.x, r.org.y, r.org.z};
-  float a[3];
-  for (int i = 0; i < 3; ++i) a[i] = d[i] < 0.0f ? -d[i] : d[i];
-  const int kz = (a[0] > a[1]) ? (a[0] > a[2] ? 0 : 2) : (a[1] > a[2] ? 1 : 2);
+  const kdr::ShearLanes<1> sh = kdr::shear_lanes<1>(o, d);  // the packets' routine at width 1
+  const int kz = sh.kz[0] ? 0 : (sh.kz[1] ? 1 : 2);
   int kx = kz == 2 ? 0 : kz + 1;
   int ky = kx == 2 ? 0 : kx + 1;
-  if (d[kz] < 0.0f) {  // keep the winding of the projected triangle
+  if (sh.swapped) {
     const int k = kx;
     kx = ky;
     ky = k;
   }
   LeafRay<N> lr;
-  lr.ox = vfloat<N>(o[kx]);
-  lr.oy = vfloat<N>(o[ky]);
-  lr.oz = vfloat<N>(o[kz]);
-  lr.sx = vfloat<N>(d[kx] / d[kz]);
-  lr.sy = vfloat<N>(d[ky] / d[kz]);
-  lr.sz = vfloat<N>(1.0f / d[kz]);
+  lr.ox = vfloat<N>(sh.sorg[0]);
+  lr.oy = vfloat<N>(sh.sorg[1]);
+  lr.oz = vfloat<N>(sh.sorg[2]);
+  lr.sx = vfloat<N>(sh.shear[0]);
+  lr.sy = vfloat<N>(sh.shear[1]);
+  lr.sz = vfloat<N>(sh.shear[2]);
   lr.tnear = vfloat<N>(r.tnear);
   lr.row_x = static_cast<std::uint32_t>(3 * B * kx);
   lr.row_y = static_cast<std::uint32_t>(3 * B * ky);
@@ -425,9 +425,36 @@ bool any_hit(const KdTreeView& tree, const Ray& ray, const KdRaySetup& setup, Co
   }
 }
 
+// The common case of one ray's setup: the packets' width-generic routine at width 1
+// (kd_ray_setup-inl.h). Fills s (plan Traverse with float_ok, or Miss) and returns true,
+// or returns false for a ray it declines (kd_setup_ray then takes it, in double).
+inline bool setup_float(const KdTreeView& tree, const Ray& ray, KdRaySetup& s) {
+  if (tree.bounds.empty()) return false;
+  const float org[3] = {ray.org.x, ray.org.y, ray.org.z}, dir[3] = {ray.dir.x, ray.dir.y, ray.dir.z};
+  const kdr::ClipLanes<1> c = kdr::clip_lanes<1>(tree, org, dir, ray.tnear, ray.tfar, true);
+  if (!c.ok) return false;
+  s.plan = c.inside ? KdPlan::Traverse : KdPlan::Miss;
+  s.float_ok = true;
+  for (int a = 0; a < 3; ++a) {
+    s.parallel[a] = false;
+    s.negative[a] = dir[a] < 0.0f;
+    s.inv_dir_f[a] = c.inv[a];
+  }
+  s.abs_slack_f = c.abs_slack;
+  s.t0_f = c.t0;
+  s.t1_f = c.t1;
+  return true;
+}
+
+inline KdRaySetup setup(const KdTreeView& tree, const Ray& ray) {
+  KdRaySetup s{};
+  if (!setup_float(tree, ray, s)) s = kd_setup_ray(tree, ray);
+  return s;
+}
+
 template <int N, int B, typename Counter>
 Hit intersect_with(const KdTreeView& tree, const Ray& ray, Counter counter) {
-  const KdRaySetup s = kd_setup_ray(tree, ray);
+  const KdRaySetup s = setup(tree, ray);
   if (s.plan == KdPlan::Miss) return miss();
   if (s.plan == KdPlan::Scan) return kd_scan_intersect(tree, ray);
   return s.float_ok ? closest<N, B, float>(tree, ray, s, counter) : closest<N, B, double>(tree, ray, s, counter);
@@ -436,7 +463,7 @@ Hit intersect_with(const KdTreeView& tree, const Ray& ray, Counter counter) {
 template <int N, int B, typename Counter>
 bool occluded_with(const KdTreeView& tree, const Ray& ray, Counter counter) {
   static_assert(B % N == 0, "a vector covers lanes of one block");
-  const KdRaySetup s = kd_setup_ray(tree, ray);
+  const KdRaySetup s = setup(tree, ray);
   if (s.plan == KdPlan::Miss) return false;
   if (s.plan == KdPlan::Scan) return kd_scan_occluded(tree, ray);
   return s.float_ok ? any_hit<N, B, float>(tree, ray, s, counter) : any_hit<N, B, double>(tree, ray, s, counter);

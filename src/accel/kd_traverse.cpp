@@ -37,30 +37,6 @@ void load_triangle(const KdTreeView& tree, std::uint32_t slot, glm::vec3 v[3]) {
   for (std::uint32_t k = 0; k < 3; ++k) v[k] = glm::vec3(b[k * w], b[(3 + k) * w], b[(6 + k) * w]);
 }
 
-// Four float lanes holding x, y, z and a copy of x: the three axes of kd_setup_ray_float in
-// one go. GCC's generic vectors, lowered by the compiler for the baseline target (SSE2 on
-// x86-64, scalar code where there is no vector unit): no ISA-specific code in this file.
-using Axes = float __attribute__((vector_size(16)));
-using AxesMask = std::int32_t __attribute__((vector_size(16)));
-
-Axes axes(float x, float y, float z) { return Axes{x, y, z, x}; }
-Axes axes(const glm::vec3& v) { return axes(v.x, v.y, v.z); }
-Axes splat(float f) { return Axes{f, f, f, f}; }
-Axes abs_of(Axes v) { return reinterpret_cast<Axes>(reinterpret_cast<AxesMask>(v) & 0x7fffffff); }
-// m ? a : b lane by lane, m from a comparison (all bits set or clear).
-Axes pick(AxesMask m, Axes a, Axes b) {
-  return reinterpret_cast<Axes>((m & reinterpret_cast<AxesMask>(a)) | (~m & reinterpret_cast<AxesMask>(b)));
-}
-bool all_lanes(AxesMask m) { return (m[0] & m[1] & m[2] & m[3]) != 0; }
-float largest(Axes v) {
-  const float a = v[0] > v[1] ? v[0] : v[1], b = v[2] > v[3] ? v[2] : v[3];
-  return a > b ? a : b;
-}
-float smallest(Axes v) {
-  const float a = v[0] < v[1] ? v[0] : v[1], b = v[2] < v[3] ? v[2] : v[3];
-  return a < b ? a : b;
-}
-
 }  // namespace
 
 float kd_max_extent_up(const Bounds3& b) {
@@ -69,58 +45,6 @@ float kd_max_extent_up(const Bounds3& b) {
   float f = static_cast<float>(e);
   if (double(f) < e) f = std::nextafter(f, kInfinity);
   return f;
-}
-
-// The packets' vector setup (kd_packet_setup-inl.h, where the limits and the exactness
-// argument are given) for one ray, with the same operations per axis, the three axes side
-// by side. Every limit is checked once at the end: a ray outside them may compute
-// garbage on the way (never a trap: float exceptions are masked), and is then declined.
-// For the rays it accepts every value is finite, so the order of the min/max reductions
-// does not change the result.
-bool kd_setup_ray_float(const KdTreeView& tree, const Ray& ray, KdRaySetup& s) {
-  constexpr float kFiniteMax = 3.40282347e38f;
-  const float rel = static_cast<float>(kKdRelativeSlack);
-  const float tnear = ray.tnear, tfar = ray.tfar;
-  const float extent = tree.max_extent_up;
-  const Axes org = axes(ray.org), dir = axes(ray.dir), lo = axes(tree.bounds.lo), hi = axes(tree.bounds.hi);
-  const Axes ad = abs_of(dir);
-  AxesMask ok = (abs_of(org) <= kFiniteMax) & (ad <= kFiniteMax) & (ad >= 0x1p-60f);
-  const float max_dir = largest(ad);
-  const Axes reach = pick(abs_of(org - hi) > abs_of(org - lo), abs_of(org - hi), abs_of(org - lo));
-  const float reach_max = largest(reach);
-  const Axes inv = splat(1.0f) / dir;
-  const float scale = extent * extent * (reach_max > extent ? reach_max : extent);
-  const float abs_slack = static_cast<float>(kKdExtentSlack) * extent / max_dir;
-  ok &= reach * abs_of(inv) <= 0x1p60f;
-  const Axes ta = (lo - org) * inv, tb = (hi - org) * inv;
-  const AxesMask a_first = ta < tb;
-  const Axes enter = pick(a_first, ta, tb), leave = pick(a_first, tb, ta);
-  const Axes t_enter = enter - (abs_of(enter) * rel + splat(abs_slack));
-  const Axes t_leave = leave + (abs_of(leave) * rel + splat(abs_slack));
-  float t0 = tnear - (std::fabs(tnear) * rel + abs_slack);
-  float t1 = tfar + (std::fabs(tfar) * rel + abs_slack);
-  const float enter_max = largest(t_enter), leave_min = smallest(t_leave);
-  t0 = enter_max > t0 ? enter_max : t0;
-  t1 = leave_min < t1 ? leave_min : t1;
-  if (!all_lanes(ok) || !(std::fabs(tnear) <= kFiniteMax) || !(tfar >= -kFiniteMax) ||
-      !(scale >= 0x1p-50f * max_dir) || !(scale <= 0x1p90f * max_dir) || !(abs_slack >= 0x1p-90f) ||
-      !(abs_slack <= 0x1p60f) || !(std::fabs(t0) <= 0x1p64f) || !(std::fabs(t1) <= 0x1p64f))
-    return false;
-  if (!(t0 <= t1)) {  // misses the widened scene box
-    s.plan = KdPlan::Miss;
-    return true;
-  }
-  s.plan = KdPlan::Traverse;
-  s.float_ok = true;
-  for (int a = 0; a < 3; ++a) {
-    s.parallel[a] = false;
-    s.negative[a] = ray.dir[a] < 0.0f;
-    s.inv_dir_f[a] = inv[a];
-  }
-  s.abs_slack_f = abs_slack;
-  s.t0_f = t0;
-  s.t1_f = t1;
-  return true;
 }
 
 KdTreeView view(const KdTree& tree) {

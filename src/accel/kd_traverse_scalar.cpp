@@ -21,3 +21,13 @@ KdKernels kd_kernels() {
 }
 
 }  // namespace lancer::scalar
+
+namespace lancer {
+
+// The generic entry to the float setup (kd_traverse_setup.h): the scalar namespace's copy,
+// built with the baseline flags like the rest of the generic code.
+bool kd_setup_ray_float(const KdTreeView& tree, const Ray& ray, KdRaySetup& s) {
+  return scalar::kd::setup_float(tree, ray, s);
+}
+
+}  // namespace lancer

@@ -42,11 +42,13 @@ struct KdRaySetup {
 // Tries kd_setup_ray_float first; the rays it declines are set up in double.
 KdRaySetup kd_setup_ray(const KdTreeView& tree, const Ray& ray);
 
-// kd_setup_ray's common case in float, for rays within the limits of the packets' vector
-// setup (finite, every direction component at least 2^-60, moderate magnitudes): sets s
-// (plan Traverse with float_ok, or Miss) and returns true; returns false with s untouched
-// for any other ray. Its float interval differs from the double path's by float rounding,
-// which the 2^-20 term of kKdRelativeSlack absorbs, so the hits are the oracle's either way.
+// kd_setup_ray's common case in float: the width-generic setup of kd_ray_setup-inl.h at
+// width 1, as lancer::scalar compiles it (each ISA's kernels call their own copy): sets s
+// (plan Traverse with float_ok, or Miss) and returns true for a ray within its limits
+// (finite, every direction component at least 2^-60, moderate magnitudes); returns false
+// with s untouched for any other ray. Its float interval differs from the double path's
+// by float rounding, which the 2^-20 term of kKdRelativeSlack absorbs, so the hits are the
+// oracle's either way.
 bool kd_setup_ray_float(const KdTreeView& tree, const Ray& ray, KdRaySetup& s);
 
 // The largest extent of the box, rounded up to a float (the slack must not shrink): E in

@@ -8,7 +8,9 @@
 //   lancer::avx512  width 16: vfloat16, vint16, vbool16   (vfloat16_avx512.h)
 // Each of those headers specialises `vtypes<N>` for its width inside its namespace, so a
 // kernel template over N that is compiled inside that namespace can write vfloat<N>,
-// vint<N> and vbool<N>. Operations are free functions; ones that cannot be told apart by
+// vint<N> and vbool<N>. Width 1 exists in every namespace too (vfloat1-inl.h, its
+// operations in the nested namespace width1), so one template serves a vector of rays and
+// a single ray in each ISA. Operations are free functions; ones that cannot be told apart by
 // their arguments (loads, mask factories) take a `Lanes<N>` tag: `load(Lanes<N>{}, p)`.
 #pragma once
 

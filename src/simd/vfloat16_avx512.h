@@ -18,10 +18,12 @@
 
 #if defined(__GNUC__) && !defined(__clang__) && __GNUC__ < 13
 // GCC 12's AVX-512 intrinsics initialise their "undefined" vectors from themselves (GCC bug
-// 105593), which -Wmaybe-uninitialized reports wherever they are inlined. Silence it for the
-// intrinsics header only (this header must be the first to include it in the TU).
+// 105593), which -Wmaybe-uninitialized and -Wuninitialized report wherever they are inlined.
+// Silence them for the intrinsics header only (this header must be the first to include it
+// in the TU).
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#pragma GCC diagnostic ignored "-Wuninitialized"
 #include <immintrin.h>
 #pragma GCC diagnostic pop
 #else

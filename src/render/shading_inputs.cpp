@@ -76,7 +76,9 @@ ShadingInputs evaluate_shading(const Scene& scene, const Ray& ray, const Hit& hi
   auto lookup = [&](const TextureRef& ref, TexelEncoding encoding) {
     return ref.present() ? sample_texture(scene, ref, si.uv0, si.uv1, encoding) : glm::vec4(1.0f);
   };
-  const glm::vec4 base = m.base_color * lookup(m.base_color_texture, TexelEncoding::Srgb);
+  glm::vec4 base = m.base_color * lookup(m.base_color_texture, TexelEncoding::Srgb);
+  // COLOR_0 multiplies the base colour and its alpha (glTF 2.0, "Metallic-Roughness Material").
+  if (flags & kHasColors) base *= interpolate(scene.colors, tri, w, u, v);
   si.base_color = glm::vec3(base);
   si.alpha = coverage(m, base.a);
   const glm::vec4 metal_rough = lookup(m.metallic_roughness_texture, TexelEncoding::Linear);

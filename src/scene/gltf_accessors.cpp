@@ -2,6 +2,7 @@
 
 #include <tiny_gltf.h>
 
+#include <cmath>
 #include <cstring>
 
 #include "scene/scene_error.h"
@@ -278,6 +279,28 @@ std::vector<glm::vec2> read_texcoords(const ModelRef& m, int accessor, const std
   return read_float_vectors<2>(
       m, accessor, what,
       {TINYGLTF_TYPE_VEC2, 2, "VEC2 of FLOAT or of normalized UNSIGNED_BYTE/UNSIGNED_SHORT", texcoord_types});
+}
+
+std::vector<glm::vec4> read_colors(const ModelRef& m, int accessor, const std::string& what) {
+  const char* described = "VEC3 or VEC4 of FLOAT or of normalized UNSIGNED_BYTE/UNSIGNED_SHORT";
+  const auto& accessors = m.model.accessors;
+  const bool rgb = accessor >= 0 && std::size_t(accessor) < accessors.size() &&
+                   accessors[std::size_t(accessor)].type == TINYGLTF_TYPE_VEC3;
+  std::vector<glm::vec4> out;
+  if (rgb) {
+    const std::vector<glm::vec3> c =
+        read_float_vectors<3>(m, accessor, what, {TINYGLTF_TYPE_VEC3, 3, described, texcoord_types});
+    out.reserve(c.size());
+    for (const glm::vec3& v : c) out.emplace_back(v, 1.0f);
+  } else {
+    out = read_float_vectors<4>(m, accessor, what, {TINYGLTF_TYPE_VEC4, 4, described, texcoord_types});
+  }
+  for (glm::vec4& v : out)
+    for (int c = 0; c < 4; ++c) {
+      if (!std::isfinite(v[c])) throw SceneError(m.file, what + " holds a non-finite colour component");
+      v[c] = v[c] < 0.0f ? 0.0f : (v[c] > 1.0f ? 1.0f : v[c]);
+    }
+  return out;
 }
 
 std::vector<std::uint32_t> read_indices(const ModelRef& m, int accessor, const std::string& what) {

@@ -35,6 +35,10 @@ std::vector<glm::vec3> read_vec3_floats(const ModelRef& m, int accessor, const s
 std::vector<glm::vec4> read_vec4_floats(const ModelRef& m, int accessor, const std::string& what);  // VEC4 FLOAT
 // VEC2 of FLOAT, or of normalized UNSIGNED_BYTE / UNSIGNED_SHORT (mapped to [0, 1]).
 std::vector<glm::vec2> read_texcoords(const ModelRef& m, int accessor, const std::string& what);
+// COLOR_0: VEC3 or VEC4 of FLOAT or of normalized UNSIGNED_BYTE/UNSIGNED_SHORT, as linear
+// RGBA (alpha 1 for VEC3). A non-finite float is an error; floats outside [0, 1] are
+// clamped to it (the range the specification gives colours).
+std::vector<glm::vec4> read_colors(const ModelRef& m, int accessor, const std::string& what);
 // SCALAR of UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT.
 std::vector<std::uint32_t> read_indices(const ModelRef& m, int accessor, const std::string& what);
 

@@ -22,6 +22,7 @@ struct WorldVertices {
   std::vector<glm::vec2> texcoords;  // empty: no TEXCOORD_0
   std::vector<glm::vec2> texcoords1; // empty: no TEXCOORD_1, or the material does not use it
   std::vector<glm::vec4> tangents;   // empty: no TANGENT (or no NORMAL, see below)
+  std::vector<glm::vec4> colors;     // empty: no COLOR_0
 };
 
 int attribute(const tinygltf::Primitive& p, const char* name) {
@@ -63,6 +64,10 @@ WorldVertices world_vertices(const ModelRef& m, const tinygltf::Primitive& prim,
   if (const int a = attribute(prim, "TEXCOORD_1"); a >= 0 && want_texcoords1) {
     v.texcoords1 = read_texcoords(m, a, what + " TEXCOORD_1");
     check_count(v.texcoords1.size(), "TEXCOORD_1");
+  }
+  if (const int a = attribute(prim, "COLOR_0"); a >= 0) {
+    v.colors = read_colors(m, a, what + " COLOR_0");
+    check_count(v.colors.size(), "COLOR_0");
   }
   if (const int a = attribute(prim, "TANGENT"); a >= 0 && !v.normals.empty()) {
     v.tangents = read_vec4_floats(m, a, what + " TANGENT");
@@ -190,7 +195,7 @@ void PrimitiveEmitter::emit_primitive(int mesh, int primitive, const glm::dmat4&
     if (mirrored) std::swap(c[1], c[2]);
     glm::vec3 p[3], nrm[3];
     glm::vec2 uv[3], uv1[3];
-    glm::vec4 tan[3];
+    glm::vec4 tan[3], color[3];
     for (int k = 0; k < 3; ++k) {
       const std::uint32_t vtx = numbers[c[std::size_t(k)]];
       p[k] = v.positions[vtx];
@@ -198,12 +203,14 @@ void PrimitiveEmitter::emit_primitive(int mesh, int primitive, const glm::dmat4&
       if (!v.texcoords.empty()) uv[k] = v.texcoords[vtx];
       if (!v.texcoords1.empty()) uv1[k] = v.texcoords1[vtx];
       if (!v.tangents.empty()) tan[k] = v.tangents[vtx];
+      if (!v.colors.empty()) color[k] = v.colors[vtx];
     }
     CornerAttributes attribs;
     if (!v.normals.empty()) attribs.normals = nrm;
     if (!v.texcoords.empty()) attribs.texcoords = uv;
     if (!v.tangents.empty()) attribs.tangents = tan;
     if (!v.texcoords1.empty()) attribs.texcoords1 = uv1;
+    if (!v.colors.empty()) attribs.colors = color;
     if (next_source_id_ == UINT32_MAX) throw SceneError(m_.file, "too many triangles: source ids are 32-bit");
     builder_.add_triangle(p, material, next_source_id_++, attribs);
   }

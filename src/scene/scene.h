@@ -134,7 +134,13 @@ struct LoadStats {
 };
 
 // Per-triangle flags saying which per-corner attributes are real.
-enum TriangleAttrib : std::uint8_t { kHasNormals = 1, kHasTexcoords = 2, kHasTangents = 4, kHasTexcoords1 = 8 };
+enum TriangleAttrib : std::uint8_t {
+  kHasNormals = 1,
+  kHasTexcoords = 2,
+  kHasTangents = 4,
+  kHasTexcoords1 = 8,
+  kHasColors = 16,
+};
 
 struct Scene {
   std::string source;  // file it came from, or the procedural scene's name
@@ -151,6 +157,7 @@ struct Scene {
   std::vector<glm::vec2> texcoords;   // TEXCOORD_0 (kHasTexcoords)
   std::vector<glm::vec4> tangents;    // xyz world space, w handedness (kHasTangents)
   std::vector<glm::vec2> texcoords1;  // TEXCOORD_1, filled only for materials that use set 1
+  std::vector<glm::vec4> colors;      // COLOR_0, linear RGBA (alpha 1 for RGB) (kHasColors)
 
   std::vector<Material> materials;  // never empty once loaded: a default material is added
   std::vector<Texture> textures;

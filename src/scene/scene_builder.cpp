@@ -81,9 +81,11 @@ bool SceneBuilder::add_triangle(const glm::vec3 p[3], std::uint32_t material, st
   append_corners(scene_.texcoords, attribs.texcoords, earlier_corners, capacity);
   append_corners(scene_.tangents, attribs.tangents, earlier_corners, capacity);
   append_corners(scene_.texcoords1, attribs.texcoords1, earlier_corners, capacity);
+  append_corners(scene_.colors, attribs.colors, earlier_corners, capacity);
   if (attribs.texcoords) flags |= kHasTexcoords;
   if (attribs.tangents) flags |= kHasTangents;
   if (attribs.texcoords1) flags |= kHasTexcoords1;
+  if (attribs.colors) flags |= kHasColors;
   scene_.attrib_flags.push_back(flags);
   return true;
 }
@@ -101,6 +103,7 @@ void SceneBuilder::reserve_more(std::size_t triangles) {
   if (!scene_.texcoords.empty()) scene_.texcoords.reserve(3 * n);
   if (!scene_.tangents.empty()) scene_.tangents.reserve(3 * n);
   if (!scene_.texcoords1.empty()) scene_.texcoords1.reserve(3 * n);
+  if (!scene_.colors.empty()) scene_.colors.reserve(3 * n);
 }
 
 void SceneBuilder::finish() {
@@ -116,6 +119,7 @@ void SceneBuilder::finish() {
   shrink(scene_.texcoords);
   shrink(scene_.tangents);
   shrink(scene_.texcoords1);
+  shrink(scene_.colors);
   if (scene_.materials.empty()) {
     Material m;
     m.name = "default";

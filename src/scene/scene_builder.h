@@ -15,6 +15,7 @@ struct CornerAttributes {
   const glm::vec2* texcoords = nullptr;  // 3 entries or null
   const glm::vec4* tangents = nullptr;   // 3 entries or null
   const glm::vec2* texcoords1 = nullptr; // 3 entries or null (TEXCOORD_1)
+  const glm::vec4* colors = nullptr;     // 3 entries or null (COLOR_0, linear RGBA)
 };
 
 class SceneBuilder {

@@ -106,6 +106,11 @@ inline void check_scene(const Scene& scene) {
   check_corners(scene.texcoords.size(), kHasTexcoords, "texcoords");
   check_corners(scene.tangents.size(), kHasTangents, "tangents");
   check_corners(scene.texcoords1.size(), kHasTexcoords1, "TEXCOORD_1");
+  check_corners(scene.colors.size(), kHasColors, "COLOR_0");
+  for (const glm::vec4& c : scene.colors)
+    require(c.r >= 0.0f && c.g >= 0.0f && c.b >= 0.0f && c.a >= 0.0f && c.r <= 1.0f && c.g <= 1.0f && c.b <= 1.0f &&
+                c.a <= 1.0f,
+            "a COLOR_0 value outside [0, 1]");
   require(!scene.materials.empty(), "a loaded scene has no material");
   for (std::size_t i = 0; i < n; ++i) {
     for (int k = 0; k < 3; ++k) require(finite(scene.triangles.vertex(i, k)), "non-finite vertex position");

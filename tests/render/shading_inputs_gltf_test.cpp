@@ -182,5 +182,66 @@ TEST_F(ShadingGltf, EveryTextureAtKnownUvs) {
     }
 }
 
+// COLOR_0 multiplies the base colour factor (glTF 2.0, "Metallic-Roughness Material"),
+// interpolated linearly over each triangle; RGB colours as normalised bytes, RGBA as floats
+// whose alpha multiplies the factor's. A primitive without COLOR_0 keeps its factor.
+TEST_F(ShadingGltf, VertexColoursMultiplyTheBaseColour) {
+  GltfBuilder b;
+  const std::vector<glm::vec3> quad = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  // RGB per corner, each element padded to 4 bytes as the specification asks of attributes.
+  const std::vector<std::uint8_t> bytes = {255, 0, 0, 0, 0, 255, 0, 0, 0, 0, 255, 0, 255, 255, 128, 0};
+  const int rgb = b.add_accessor(b.add_view(bytes.data(), bytes.size(), 4), GltfBuilder::kUByte, 4, "VEC3", true);
+  const int quad_mesh = b.add_mesh({{"POSITION", b.add_vec3(quad)}, {"COLOR_0", rgb}}, 4,
+                                   b.add_indices(std::vector<std::uint16_t>{0, 1, 2, 0, 2, 3}), 0);
+  // A triangle beside it (x in [2, 3]) with one RGBA colour at every corner, and one
+  // further on (x in [4, 5]) without COLOR_0.
+  const std::vector<glm::vec3> tri_rgba = {{2, 0, 0}, {3, 0, 0}, {3, 1, 0}}, tri_plain = {{4, 0, 0}, {5, 0, 0}, {5, 1, 0}};
+  const int rgba = b.add_vec4(std::vector<glm::vec4>(3, glm::vec4(0.2f, 0.4f, 0.6f, 0.5f)));
+  const int rgba_mesh = b.add_mesh({{"POSITION", b.add_vec3(tri_rgba)}, {"COLOR_0", rgba}}, 4, -1, 0);
+  const int plain_mesh = b.add_mesh({{"POSITION", b.add_vec3(tri_plain)}}, 4, -1, 0);
+  b.push("materials", {{"pbrMetallicRoughness", {{"baseColorFactor", {0.5, 1.0, 0.8, 0.9}}}}, {"alphaMode", "BLEND"}});
+  b.push("nodes", {{"mesh", quad_mesh}});
+  b.push("nodes", {{"mesh", rgba_mesh}});
+  b.push("nodes", {{"mesh", plain_mesh}});
+  b.push("scenes", {{"nodes", {0, 1, 2}}});
+  b.doc["scene"] = 0;
+  b.write_data_uri_gltf(path("colours.gltf"));
+
+  const Scene scene = read_gltf(path("colours.gltf"));
+  ASSERT_EQ(scene.triangle_count(), 4u);
+  ASSERT_EQ(scene.colors.size(), 12u);
+  EXPECT_EQ(scene.attrib_flags[3] & kHasColors, 0) << "the plain triangle has no COLOR_0";
+  const BruteForce accel(scene.triangles);
+  const glm::vec3 factor(0.5f, 1.0f, 0.8f);
+  const glm::vec3 corner[4] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 128.0f / 255.0f}};
+
+  const auto shade_at = [&](glm::vec2 at) {
+    const Ray ray = test::ray_from(glm::vec3(at, 3.0f), {0, 0, -1});
+    const Hit hit = accel.intersect(ray);
+    EXPECT_TRUE(hit.valid()) << at.x << ", " << at.y;
+    return evaluate_shading(scene, ray, hit);
+  };
+  for (const glm::vec2 at : {glm::vec2(0.7f, 0.2f), glm::vec2(0.9f, 0.6f), glm::vec2(0.2f, 0.7f), glm::vec2(0.4f, 0.9f)}) {
+    // Barycentric weights of the quad's corners: triangle (0, 1, 2) below the diagonal,
+    // (0, 2, 3) above it.
+    float wt[4] = {0, 0, 0, 0};
+    if (at.x > at.y) {
+      wt[0] = 1 - at.x, wt[1] = at.x - at.y, wt[2] = at.y;
+    } else {
+      wt[0] = 1 - at.y, wt[2] = at.x, wt[3] = at.y - at.x;
+    }
+    glm::vec3 expected(0.0f);
+    for (int k = 0; k < 4; ++k) expected += wt[k] * corner[k];
+    const ShadingInputs si = shade_at(at);
+    for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(si.base_color[ch], factor[ch] * expected[ch], 1e-5f) << at.x << ", " << at.y;
+    EXPECT_NEAR(si.alpha, 0.9f, 1e-6f) << "RGB colours leave alpha alone";
+  }
+  const ShadingInputs with_alpha = shade_at({2.8f, 0.3f});
+  for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(with_alpha.base_color[ch], factor[ch] * (0.2f * float(ch + 1)), 1e-6f);
+  EXPECT_NEAR(with_alpha.alpha, 0.9f * 0.5f, 1e-6f);
+  const ShadingInputs plain = shade_at({4.8f, 0.3f});
+  for (int ch = 0; ch < 3; ++ch) EXPECT_FLOAT_EQ(plain.base_color[ch], factor[ch]);
+}
+
 }  // namespace
 }  // namespace lancer

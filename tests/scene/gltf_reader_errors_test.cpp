@@ -433,5 +433,28 @@ TEST_F(GltfErrors, CorruptedGlbBytesNeverCrash) {
   EXPECT_GT(loaded, 0u);
 }
 
+// COLOR_0 must be RGB or RGBA, of float or normalised unsigned integers, and finite.
+TEST_F(GltfErrors, BadVertexColours) {
+  {
+    GltfBuilder b = base_triangle();
+    b.doc["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] =
+        b.add_vec2(std::vector<glm::vec2>{{1, 0}, {0, 1}, {1, 1}});
+    expect_error(b, "COLOR_0 (accessor 2) must be VEC3 or VEC4");
+  }
+  {
+    GltfBuilder b = base_triangle();
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    b.doc["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] =
+        b.add_vec4(std::vector<glm::vec4>{{1, 0, 0, 1}, {0, nan, 0, 1}, {0, 0, 1, 1}});
+    expect_error(b, "COLOR_0 holds a non-finite colour component");
+  }
+  {
+    GltfBuilder b = base_triangle();
+    b.doc["meshes"][0]["primitives"][0]["attributes"]["COLOR_0"] =
+        b.add_vec3(std::vector<glm::vec3>{{1, 0, 0}, {0, 1, 0}});
+    expect_error(b, "COLOR_0 has 2 elements but POSITION has 3");
+  }
+}
+
 }  // namespace
 }  // namespace lancer

@@ -99,7 +99,12 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
     const bool lit_by_env = !opt.env_file.empty() || !opt.env_color.empty();
     if (!has_light(scene) && !lit_by_env &&
         (opt.settings.integrator == IntegratorKind::Whitted || opt.settings.integrator == IntegratorKind::Path))
-      err << "lancer: warning: " << scene.source << ": the scene has no lights; the image will be black\n";
+      err << "lancer: warning: " << scene.source << ": the scene has no lights; the image will be black ("
+          << (opt.settings.integrator == IntegratorKind::Path
+                  ? "light it with --env-color R,G,B, a constant sky, or --env FILE, an environment map"
+                  : "give it an emissive material or a punctual light, or render with --integrator path "
+                    "--env-color R,G,B")
+          << ")\n";
 
     RenderSettings& s = opt.settings;
     PinholeCamera camera =

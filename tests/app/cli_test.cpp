@@ -120,6 +120,9 @@ TEST(Cli, SceneWithoutLightRendersBlackWithAWarning) {
     EXPECT_NE(r.err.find("warning"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("unlit.obj"), std::string::npos) << r.err;
     EXPECT_NE(r.err.find("no lights"), std::string::npos) << r.err;
+    // It says what to do, with options this integrator takes.
+    EXPECT_NE(r.err.find(integrator == "path" ? "--env-color" : "--integrator path --env-color"), std::string::npos)
+        << r.err;
     const ImageRGB image = read_image(exr);
     ASSERT_EQ(image.width, 16);
     for (float v : image.rgb) ASSERT_EQ(v, 0.0f) << integrator << ": the unlit scene is not black";

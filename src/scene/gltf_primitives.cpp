@@ -1,3 +1,4 @@
+#include "scene/scene_warning.h"
 #include "scene/gltf_primitives.h"
 
 #include <tiny_gltf.h>
@@ -6,7 +7,6 @@
 #include <cstdint>
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
-#include <iostream>
 #include <utility>
 
 #include "scene/scene_error.h"
@@ -158,7 +158,7 @@ void PrimitiveEmitter::emit_primitive(int mesh, int primitive, const glm::dmat4&
   if (mode >= TINYGLTF_MODE_POINTS && mode <= TINYGLTF_MODE_LINE_STRIP) {
     ++scene_.stats.non_triangle_primitives_skipped;
     if (!warned_non_triangles_)
-      std::cerr << m_.file << ": warning: skipping point and line primitives (only triangles are rendered)\n";
+      print_scene_warnings(m_.file, "skipping point and line primitives (only triangles are rendered)");
     warned_non_triangles_ = true;
     return;
   }
@@ -170,7 +170,7 @@ void PrimitiveEmitter::emit_primitive(int mesh, int primitive, const glm::dmat4&
   const WorldVertices v = world_vertices(m_, prim, world, wants_texcoords1, what);
   if (wants_texcoords1 && v.texcoords1.empty() && !warned_missing_texcoords1_) {
     // GPU viewers read a missing attribute as 0; so does Lancer (kHasTexcoords1 unset).
-    std::cerr << m_.file << ": warning: " << what << ": its material uses TEXCOORD_1 but the primitive has none\n";
+    print_scene_warnings(m_.file, what + ": its material uses TEXCOORD_1 but the primitive has none");
     warned_missing_texcoords1_ = true;
   }
   const std::vector<std::uint32_t> numbers = vertex_numbers(m_, prim, v.positions.size(), what);

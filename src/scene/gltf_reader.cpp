@@ -1,6 +1,7 @@
 // glTF 2.0 reader. The file is read here, its JSON checked (gltf_json_checks), parsed
 // by tinygltf, then every index, size and offset is checked again on use
 // (gltf_accessors, gltf_nodes, gltf_materials) since tinygltf trusts most of them.
+#include "scene/scene_warning.h"
 #include "scene/gltf_reader.h"
 
 #include <tiny_gltf.h>
@@ -12,7 +13,6 @@
 #include <cstring>
 #include <fstream>
 #include <glm/geometric.hpp>
-#include <iostream>
 #include <iterator>
 #include <limits>
 #include <numbers>
@@ -119,7 +119,7 @@ tinygltf::Model load_model(std::span<const unsigned char> bytes, const std::file
   } catch (const std::exception& e) {
     throw SceneError(file, std::string("invalid glTF: ") + e.what());
   }
-  if (!warn.empty()) std::cerr << file << ": warning: " << trimmed(warn) << "\n";
+  print_scene_warnings(file, warn);  // tinygltf's report, a line each
   // tinygltf also reports some problems in `err` while returning true (a primitive it
   // dropped, a missing required property): those are errors too.
   if (!ok || !err.empty())
@@ -147,8 +147,7 @@ void add_camera(const ModelRef& m, int node, int camera, const glm::dmat4& world
   const tinygltf::Camera& c = m.model.cameras[std::size_t(camera)];
   const std::string what = "camera " + std::to_string(camera);
   if (c.type != "perspective") {
-    std::cerr << m.file << ": warning: skipping " << c.type << " " << what
-              << " (only perspective cameras are supported)\n";
+    print_scene_warnings(m.file, "skipping " + c.type + " " + what + " (only perspective cameras are supported)");
     return;
   }
   const double yfov = c.perspective.yfov;

@@ -1,9 +1,9 @@
+#include "scene/scene_warning.h"
 #include "scene/gltf_texture_refs.h"
 
 #include <tiny_gltf.h>
 
 #include <cmath>
-#include <iostream>
 
 #include "scene/scene_error.h"
 
@@ -74,8 +74,8 @@ TextureRef texture_ref(const ModelRef& m, int texture, int texcoord, double scal
   ref.scale = float(scale);
   if (transform) apply_transform(m, *transform, ref, what);
   if (ref.texcoord > 1) {
-    std::cerr << m.file << ": warning: " << what << " uses TEXCOORD_" << ref.texcoord
-              << "; only TEXCOORD_0 and TEXCOORD_1 are read, so it uses TEXCOORD_0\n";
+    print_scene_warnings(m.file, what + " uses TEXCOORD_" + std::to_string(ref.texcoord) +
+                                     "; only TEXCOORD_0 and TEXCOORD_1 are read, so it uses TEXCOORD_0");
     ref.texcoord = 0;
   }
   return ref;

@@ -3,12 +3,12 @@
 // it with triangulate = false, and each polygon is fan-triangulated here in file order,
 // (v0, vi, vi+1), so a triangle's source id is its position among the file's triangles,
 // counting the degenerate ones SceneBuilder drops.
+#include "scene/scene_warning.h"
 #include "scene/obj_reader.h"
 
 #include <algorithm>
 #include <cstdint>
 #include <fstream>
-#include <iostream>
 #include <iterator>
 #include <limits>
 #include <map>
@@ -67,13 +67,6 @@ std::string trim(const std::string& s) {
   return s.substr(first, s.find_last_not_of(" \t\r\n") - first + 1);
 }
 
-void print_warnings(const std::string& file, const std::string& text) {
-  std::istringstream lines(text);
-  std::string line;
-  while (std::getline(lines, line))
-    if (const std::string message = trim(line); !message.empty())
-      std::cerr << "warning: " << file << ": " << message << '\n';
-}
 
 std::string read_whole_file(const fs::path& path, const std::string& file) {
   std::ifstream in(path, std::ios::binary);
@@ -179,7 +172,7 @@ Scene read_obj(const fs::path& path) {
   const std::string text = read_whole_file(path, file);
   const obj_detail::ObjTextSummary summary = obj_detail::check_obj_text(text, file);
   if (summary.unknown_statements > 0)
-    print_warnings(file, "ignored " + std::to_string(summary.unknown_statements) +
+    print_scene_warnings(file, "ignored " + std::to_string(summary.unknown_statements) +
                              " line(s) with an unknown keyword, the first on line " +
                              std::to_string(summary.first_unknown_line));
 
@@ -191,7 +184,7 @@ Scene read_obj(const fs::path& path) {
   MtlLibraryReader mtl_reader(path.parent_path());
   const bool parsed = tinyobj::LoadObj(&attrib, &shapes, &mtl_materials, &warnings, &errors, &stream, &mtl_reader,
                                        /*triangulate=*/false, /*default_vcols_fallback=*/false);
-  print_warnings(file, warnings);
+  print_scene_warnings(file, warnings);
   if (!parsed || !trim(errors).empty())
     throw SceneError(file, trim(errors).empty() ? "tinyobjloader could not parse the file" : trim(errors));
 

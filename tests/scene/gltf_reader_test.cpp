@@ -258,6 +258,9 @@ TEST_F(GltfReader, PointsAndLinesAreSkippedAndCounted) {
   std::size_t warnings = 0;
   for (std::size_t at = err.find("warning"); at != std::string::npos; at = err.find("warning", at + 1)) ++warnings;
   EXPECT_EQ(warnings, 1u) << err;
+  EXPECT_NE(err.find("lancer: warning: " + path("lines.gltf").string() + ": skipping point and line primitives"),
+            std::string::npos)
+      << "the commands' form: " << err;
 }
 
 TEST_F(GltfReader, SparseAccessors) {

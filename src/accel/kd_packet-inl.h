@@ -28,7 +28,7 @@
 // and the answers equal the oracle's bit for bit.
 //
 // Setup: kd_packet_setup-inl.h, N rays at a time in float. Rays it leaves (axis-parallel,
-// extreme or non-finite) take kd_setup_ray; those the single-ray kernel does not traverse
+// extreme or non-finite) take kd_setup_ray_double; those the single-ray kernel does not traverse
 // in float (miss, scan or double plans, see kd_traverse-inl.h) are answered by it one by
 // one.
 #pragma once
@@ -460,15 +460,8 @@ template <int N, int B, bool SameOrigin>
 void traverse_class(const KdTreeView& tree, const Ray* rays, PacketRays& p, std::uint64_t active, int nvec, int kz,
                     bool swapped) {
   const Lanes<N> w;
-  int kx = kz == 2 ? 0 : kz + 1;
-  int ky = kx == 2 ? 0 : kx + 1;
-  if (swapped) {
-    const int k = kx;
-    kx = ky;
-    ky = k;
-  }
-  const std::uint32_t rows[3] = {static_cast<std::uint32_t>(3 * B * kx), static_cast<std::uint32_t>(3 * B * ky),
-                                 static_cast<std::uint32_t>(3 * B * kz)};
+  std::uint32_t rows[3];
+  kd::shear_rows<B>(kz, swapped, rows);
   // entries[c] is the current cell; entries below it are pending far cells (or dead ones
   // with no active lane). Depth <= kKdMaxDepth, so c + 1 < kKdStackSize.
   PacketEntry entries[kKdStackSize];
@@ -546,11 +539,11 @@ void packet(const KdTreeView& tree, const Ray* rays, Hit* hits, int count, bool 
   for (int i = 0; i < count; ++i) p.best_prim[i] = kNoHit;
   const kdp::SetupMasks masks = kdp::setup_vectors<N>(tree, rays, count, p, hits);
   std::uint64_t packet = masks.packet;
-  // The lanes the vector setup left: kd_setup_ray's plans, as in single-ray traversal.
+  // The lanes the vector setup left: kd_setup_ray_double's plans, as in single-ray traversal.
   for (std::uint64_t todo = masks.slow; todo != 0; todo &= todo - 1) {
     const int i = __builtin_ctzll(todo);
     const Ray& r = rays[i];
-    const KdRaySetup s = kd_setup_ray(tree, r);
+    const KdRaySetup s = kd_setup_ray_double(tree, r);  // the vector setup declined it
     if (s.plan == KdPlan::Miss) {
       hits[i] = kd::miss();
       continue;

@@ -1,7 +1,7 @@
 // Per-ray setup of a packet, N lanes at a time, in float (kd_packet-inl.h's first step):
 // the one width-generic setup (kd_ray_setup-inl.h) at the vector width, laid out in the
 // packet's SoA arrays. Compiled once per ISA inside namespace lancer::LANCER_ISA, like
-// the traversal itself. Lanes it declines take kd_setup_ray's double path, one at a time.
+// the traversal itself. Lanes it declines take kd_setup_ray_double, one at a time.
 #pragma once
 
 #include "simd/isa_namespace.h"
@@ -47,7 +47,7 @@ struct PacketRays {
 // What setup_vectors leaves for the caller, as lane bits.
 struct SetupMasks {
   std::uint64_t packet = 0;  // set up in p, to traverse
-  std::uint64_t slow = 0;    // not handled here: kd_setup_ray's turn
+  std::uint64_t slow = 0;    // not handled here: kd_setup_ray_double's turn
 };
 
 // Sets up lanes [0, count) of p (org, inv_dir, abs_slack, t0, t1, tnear, limit, best_t,
@@ -57,7 +57,7 @@ template <int N>
 SetupMasks setup_vectors(const KdTreeView& tree, const Ray* rays, int count, PacketRays& p, Hit* hits) {
   SetupMasks out;
   const int nvec = (count + N - 1) / N;
-  if (tree.bounds.empty()) {  // kd_setup_ray says Miss for all
+  if (tree.bounds.empty()) {  // kd_setup_ray_double says Miss for all
     out.slow = count == 64 ? ~0ull : (1ull << count) - 1;
     return out;
   }

@@ -217,18 +217,26 @@ struct LeafRay {
   std::uint32_t row_x, row_y, row_z;
 };
 
-template <int N, int B>
-inline LeafRay<N> make_leaf_ray(const Ray& r) {
-  const float d[3] = {r.dir.x, r.dir.y, r.dir.z}, o[3] = {r.org.x, r.org.y, r.org.z};
-  const kdr::ShearLanes<1> sh = kdr::shear_lanes<1>(o, d);  // the packets' routine at width 1
-  const int kz = sh.kz[0] ? 0 : (sh.kz[1] ? 1 : 2);
+// The float offsets in a block of B lanes of the vertex rows of the sheared axes kx, ky,
+// kz, for the permutation (kz, swapped) of WatertightRay (kd_ray_setup-inl.h).
+template <int B>
+inline void shear_rows(int kz, bool swapped, std::uint32_t rows[3]) {
   int kx = kz == 2 ? 0 : kz + 1;
   int ky = kx == 2 ? 0 : kx + 1;
-  if (sh.swapped) {
+  if (swapped) {
     const int k = kx;
     kx = ky;
     ky = k;
   }
+  rows[0] = static_cast<std::uint32_t>(3 * B * kx);
+  rows[1] = static_cast<std::uint32_t>(3 * B * ky);
+  rows[2] = static_cast<std::uint32_t>(3 * B * kz);
+}
+
+template <int N, int B>
+inline LeafRay<N> make_leaf_ray(const Ray& r) {
+  const float d[3] = {r.dir.x, r.dir.y, r.dir.z}, o[3] = {r.org.x, r.org.y, r.org.z};
+  const kdr::ShearLanes<1> sh = kdr::shear_lanes<1>(o, d);  // the packets' routine at width 1
   LeafRay<N> lr;
   lr.ox = vfloat<N>(sh.sorg[0]);
   lr.oy = vfloat<N>(sh.sorg[1]);
@@ -237,9 +245,9 @@ inline LeafRay<N> make_leaf_ray(const Ray& r) {
   lr.sy = vfloat<N>(sh.shear[1]);
   lr.sz = vfloat<N>(sh.shear[2]);
   lr.tnear = vfloat<N>(r.tnear);
-  lr.row_x = static_cast<std::uint32_t>(3 * B * kx);
-  lr.row_y = static_cast<std::uint32_t>(3 * B * ky);
-  lr.row_z = static_cast<std::uint32_t>(3 * B * kz);
+  std::uint32_t rows[3];
+  shear_rows<B>(sh.kz[0] ? 0 : (sh.kz[1] ? 1 : 2), sh.swapped, rows);
+  lr.row_x = rows[0], lr.row_y = rows[1], lr.row_z = rows[2];
   return lr;
 }
 
@@ -427,7 +435,7 @@ bool any_hit(const KdTreeView& tree, const Ray& ray, const KdRaySetup& setup, Co
 
 // The common case of one ray's setup: the packets' width-generic routine at width 1
 // (kd_ray_setup-inl.h). Fills s (plan Traverse with float_ok, or Miss) and returns true,
-// or returns false for a ray it declines (kd_setup_ray then takes it, in double).
+// or returns false for a ray it declines (kd_setup_ray_double then takes it).
 inline bool setup_float(const KdTreeView& tree, const Ray& ray, KdRaySetup& s) {
   if (tree.bounds.empty()) return false;
   const float org[3] = {ray.org.x, ray.org.y, ray.org.z}, dir[3] = {ray.dir.x, ray.dir.y, ray.dir.z};
@@ -448,7 +456,7 @@ inline bool setup_float(const KdTreeView& tree, const Ray& ray, KdRaySetup& s) {
 
 inline KdRaySetup setup(const KdTreeView& tree, const Ray& ray) {
   KdRaySetup s{};
-  if (!setup_float(tree, ray, s)) s = kd_setup_ray(tree, ray);
+  if (!setup_float(tree, ray, s)) s = kd_setup_ray_double(tree, ray);
   return s;
 }
 

@@ -61,9 +61,14 @@ KdTreeView view(const KdTree& tree) {
 // or says why the ray does not traverse (see the exactness comment in kd_traverse-inl.h).
 KdRaySetup kd_setup_ray(const KdTreeView& tree, const Ray& ray) {
   KdRaySetup s{};
+  if (kd_setup_ray_float(tree, ray, s)) return s;  // the common case, without double divisions
+  return kd_setup_ray_double(tree, ray);
+}
+
+KdRaySetup kd_setup_ray_double(const KdTreeView& tree, const Ray& ray) {
+  KdRaySetup s{};
   s.plan = KdPlan::Miss;
   if (tree.bounds.empty() || std::isnan(ray.tnear) || std::isnan(ray.tfar)) return s;  // nothing to hit
-  if (kd_setup_ray_float(tree, ray, s)) return s;  // the common case, without double divisions
   double max_dir = 0.0, max_extent = 0.0, distance = 0.0;
   for (int a = 0; a < 3; ++a) {
     if (!std::isfinite(ray.org[a]) || !std::isfinite(ray.dir[a])) {

@@ -42,6 +42,10 @@ struct KdRaySetup {
 // Tries kd_setup_ray_float first; the rays it declines are set up in double.
 KdRaySetup kd_setup_ray(const KdTreeView& tree, const Ray& ray);
 
+// The double path alone, for rays a float setup has already declined (the kernels' own
+// width-1 or vector setup): every ray gets a plan (Miss, Scan or Traverse).
+KdRaySetup kd_setup_ray_double(const KdTreeView& tree, const Ray& ray);
+
 // kd_setup_ray's common case in float: the width-generic setup of kd_ray_setup-inl.h at
 // width 1, as lancer::scalar compiles it (each ISA's kernels call their own copy): sets s
 // (plan Traverse with float_ok, or Miss) and returns true for a ray within its limits

@@ -1,4 +1,3 @@
-#include "scene/scene_warning.h"
 #include "scene/gltf_primitives.h"
 
 #include <tiny_gltf.h>
@@ -10,6 +9,7 @@
 #include <utility>
 
 #include "scene/scene_error.h"
+#include "scene/scene_warning.h"
 
 namespace lancer::gltf {
 

@@ -1,7 +1,6 @@
 // glTF 2.0 reader. The file is read here, its JSON checked (gltf_json_checks), parsed
 // by tinygltf, then every index, size and offset is checked again on use
 // (gltf_accessors, gltf_nodes, gltf_materials) since tinygltf trusts most of them.
-#include "scene/scene_warning.h"
 #include "scene/gltf_reader.h"
 
 #include <tiny_gltf.h>
@@ -26,6 +25,7 @@
 #include "scene/gltf_primitives.h"
 #include "scene/scene_builder.h"
 #include "scene/scene_error.h"
+#include "scene/scene_warning.h"
 
 namespace lancer {
 

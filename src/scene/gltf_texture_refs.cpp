@@ -1,4 +1,3 @@
-#include "scene/scene_warning.h"
 #include "scene/gltf_texture_refs.h"
 
 #include <tiny_gltf.h>
@@ -6,6 +5,7 @@
 #include <cmath>
 
 #include "scene/scene_error.h"
+#include "scene/scene_warning.h"
 
 namespace lancer::gltf {
 

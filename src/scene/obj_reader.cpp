@@ -3,7 +3,6 @@
 // it with triangulate = false, and each polygon is fan-triangulated here in file order,
 // (v0, vi, vi+1), so a triangle's source id is its position among the file's triangles,
 // counting the degenerate ones SceneBuilder drops.
-#include "scene/scene_warning.h"
 #include "scene/obj_reader.h"
 
 #include <algorithm>
@@ -23,6 +22,7 @@
 #include "scene/obj_text_check.h"
 #include "scene/scene_builder.h"
 #include "scene/scene_error.h"
+#include "scene/scene_warning.h"
 
 namespace lancer {
 

@@ -141,6 +141,11 @@ struct BsdfSample {
 struct BsdfEval {
   glm::vec3 f{0.0f};  // f(wo, wi) * |cos(wi, n)| for the non-delta lobes
   float pdf = 0.0f;   // sample()'s solid-angle density of wi from its non-delta lobes
+  BsdfEval& operator+=(const BsdfEval& o) {
+    f += o.f;
+    pdf += o.pdf;
+    return *this;
+  }
 };
 
 class Bsdf {

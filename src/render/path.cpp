@@ -41,13 +41,6 @@ float max_component(const glm::vec3& v) { return std::max(v.x, std::max(v.y, v.z
 bool is_black(const glm::vec3& v) { return v.x <= 0.0f && v.y <= 0.0f && v.z <= 0.0f; }
 bool is_finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
-// A direction counts only where the shading normal and the geometric normal agree on the
-// side it lies on (else a normal map or interpolated normal would let light leak through
-// the surface). ng and ns both face wo.
-bool sides_agree(const ShadingInputs& si, const glm::vec3& wi) {
-  return (glm::dot(wi, si.ng) > 0.0f) == (glm::dot(wi, si.ns) > 0.0f);
-}
-
 // Beer-Lambert absorption coefficient of a KHR_materials_volume material, or nothing. A thin
 // wall encloses no volume, whatever its attenuation says.
 bool volume_absorption(const ShadingInputs& si, glm::vec3& sigma_a) {
@@ -272,6 +265,10 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
   // si.tangent is unit and orthogonal to si.ns already (evaluate_shading).
   const Bsdf bsdf(inputs, ShadingFrame::from_orthonormal(si.ns, si.tangent), si.front_face);
   const Bsdf::Outgoing wo = bsdf.outgoing(-dir);
+  // The BSDF folded where the shading and geometric normals disagree (shading_inputs.h).
+  auto evaluate = [&](const glm::vec3& wi) {
+    return evaluate_folded<BsdfEval>(si, wi, [&](const glm::vec3& w) { return bsdf.evaluate(wo, w); });
+  };
   auto queue_shadow = [&](const ShadowAim& aim, const glm::vec3& contribution) {
     ++ray_count;
     scratch.shadows.push_back({Ray{}, aim, contribution, index, leaf});
@@ -286,7 +283,7 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
       const LightSample ls = sample_area_light(scene_, area_lights_, si.p, sampler.get1(at + kLightPickDimension),
                                                sampler.get2(at + kLightPointDimensions));
       if (!ls.valid) continue;
-      const BsdfEval e = sides_agree(si, ls.wi) ? bsdf.evaluate(wo, ls.wi) : BsdfEval{};
+      const BsdfEval e = evaluate(ls.wi);
       if (is_black(e.f)) continue;
       const float light_pdf = light_samples_ * ls.pdf_solid_angle();
       queue_shadow(aim_at_area_light(ls.point.point, ls.point.normal),
@@ -295,7 +292,7 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
     // The environment.
     if (environment_) {
       const EnvSample es = environment_->sample(sampler.get2(dims + kEnvironmentDimensions));
-      const BsdfEval e = es.pdf > 0.0f && sides_agree(si, es.dir) ? bsdf.evaluate(wo, es.dir) : BsdfEval{};
+      const BsdfEval e = es.pdf > 0.0f ? evaluate(es.dir) : BsdfEval{};
       if (!is_black(e.f) && !is_black(es.radiance)) {
         queue_shadow(aim_along(es.dir), beta * e.f * es.radiance * (power_heuristic(es.pdf, e.pdf) / es.pdf));
       }
@@ -303,8 +300,8 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
     // Punctual lights: delta lights, one shadow ray each.
     for (const PunctualLight& light : scene_.lights) {
       const PunctualIncidence in = illuminate(light, si.p);
-      if (is_black(in.irradiance) || !sides_agree(si, in.wi)) continue;
-      const glm::vec3 f = bsdf.evaluate(wo, in.wi).f;
+      if (is_black(in.irradiance)) continue;
+      const glm::vec3 f = evaluate(in.wi).f;
       if (is_black(f)) continue;
       queue_shadow(aim_at_punctual(light, in.wi), beta * f * in.irradiance);
     }
@@ -313,10 +310,20 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
   // Continue the path by sampling the BSDF (the split value only where it is read).
   const float u_split = bsdf.reads_split() ? sampler.get1(dims + kSplitDimension) : 0.0f;
   const std::optional<BsdfSample> bs = bsdf.sample(wo, u_split, sampler.get2(dims + kBsdfDimensions));
-  if (!bs || !sides_agree(si, bs->wi)) return false;
+  if (!bs) return false;
+  glm::vec3 wi = bs->wi;
+  if (!fold_direction(si, wi)) return false;
   beta *= bs->weight;
   if (is_black(beta) || !is_finite(beta)) return false;
+  // MIS needs the folded density of wi: bs->pdf plus that of wi's other preimage, which
+  // exists only near a leaning shading normal.
   path.prev_pdf = bs->pdf;
+  if (!bs->delta) {
+    if (wi != bs->wi)
+      path.prev_pdf += bsdf.evaluate(wo, wi).pdf;
+    else if (const glm::vec3 m = mirror_through_surface(si, wi); !sides_agree(si, m))
+      path.prev_pdf += bsdf.evaluate(wo, m).pdf;
+  }
   path.prev_delta = bs->delta;
   // Through a volume boundary the path enters (front face) or leaves the medium; through a
   // thin wall it stays where it was.
@@ -331,7 +338,7 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
     beta /= survive;
   }
   Ray next;  // its origin: solve_origins_of_bounce
-  next.dir = bs->wi;
+  next.dir = wi;
   ++ray_count;
   scratch.next_rays.push_back(next);
   scratch.next_leaves.push_back(leaf);

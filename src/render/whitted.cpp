@@ -33,10 +33,10 @@ Ray spawn_ray(const Scene& scene, const ShadingInputs& si, const glm::vec3& dir)
   return r;
 }
 
-// The normal used for specular directions: the shading normal unless it faces away from
-// the incoming ray, then the geometric one.
-glm::vec3 specular_normal(const ShadingInputs& si, const glm::vec3& wo) {
-  return glm::dot(wo, si.ns) > 0.0f ? si.ns : si.ng;
+// The Lambertian base's cosine toward a light, folded where the shading and geometric
+// normals disagree (shading_inputs.h): 0 for a light below either plane.
+float lambert_cosine(const ShadingInputs& si, const glm::vec3& wi) {
+  return evaluate_folded<float>(si, wi, [&](const glm::vec3& w) { return std::max(0.0f, glm::dot(si.ns, w)); });
 }
 
 }  // namespace
@@ -70,9 +70,9 @@ glm::vec3 WhittedIntegrator::shade(const Ray& ray, const Hit& hit, int depth, So
 glm::vec3 WhittedIntegrator::mirror(const ShadingInputs& si, const Ray& ray, int depth, SobolSampler& sampler,
                                     std::uint64_t& rays) const {
   const glm::vec3 wo = -ray.dir;
-  const glm::vec3 n = specular_normal(si, wo);
-  const float cos_i = glm::dot(wo, n);
-  const glm::vec3 dir = glm::normalize(glm::reflect(ray.dir, n));
+  const float cos_i = glm::dot(wo, si.ns);  // > 0: evaluate_shading keeps ns facing the viewer
+  glm::vec3 dir = glm::normalize(glm::reflect(ray.dir, si.ns));
+  if (!fold_direction(si, dir)) return glm::vec3(0.0f);
   return schlick_fresnel(si.base_color, cos_i) * trace(spawn_ray(scene_, si, dir), depth + 1, sampler, rays);
 }
 
@@ -86,22 +86,23 @@ glm::vec3 WhittedIntegrator::dielectric(const ShadingInputs& si, const Ray& ray,
   const bool thin = si.thin_walled;
   const float eta = thin || si.front_face ? ior : 1.0f / ior;  // n_t / n_i
   const glm::vec3 wo = -ray.dir;
-  const glm::vec3 n = specular_normal(si, wo);
+  const glm::vec3& n = si.ns;
   const float cos_i = std::clamp(glm::dot(wo, n), 0.0f, 1.0f);
   const float F = exact_dielectric_fresnel(cos_i, eta);
 
   glm::vec3 L(0.0f);
-  const glm::vec3 refl = glm::normalize(glm::reflect(ray.dir, n));
-  L += F * trace(spawn_ray(scene_, si, refl), depth + 1, sampler, rays);
+  // Each direction folded where the two normals disagree on its side (shading_inputs.h).
+  auto follow = [&](glm::vec3 dir) {
+    return fold_direction(si, dir) ? trace(spawn_ray(scene_, si, dir), depth + 1, sampler, rays) : glm::vec3(0.0f);
+  };
+  L += F * follow(glm::normalize(glm::reflect(ray.dir, n)));
   if (F < 1.0f && thin) {
-    const glm::vec3 straight = glm::normalize(ray.dir);
-    L += (1.0f - F) * si.base_color * trace(spawn_ray(scene_, si, straight), depth + 1, sampler, rays);
+    L += (1.0f - F) * si.base_color * follow(glm::normalize(ray.dir));
   } else if (F < 1.0f) {
     const float inv_eta = 1.0f / eta;
     const float sin2_t = inv_eta * inv_eta * (1.0f - cos_i * cos_i);
     const float cos_t = std::sqrt(std::max(0.0f, 1.0f - sin2_t));
-    const glm::vec3 refr = glm::normalize(inv_eta * ray.dir + (inv_eta * cos_i - cos_t) * n);
-    L += (1.0f - F) * si.base_color * trace(spawn_ray(scene_, si, refr), depth + 1, sampler, rays);
+    L += (1.0f - F) * si.base_color * follow(glm::normalize(inv_eta * ray.dir + (inv_eta * cos_i - cos_t) * n));
   }
   return L;
 }
@@ -120,9 +121,8 @@ glm::vec3 WhittedIntegrator::punctual_lighting(const ShadingInputs& si, const Su
   for (const PunctualLight& light : scene_.lights) {
     const PunctualIncidence in = illuminate(light, si.p);
     if (in.irradiance == glm::vec3(0.0f)) continue;
-    const float cos_g = glm::dot(si.ng, in.wi);
-    const float cos_s = glm::dot(si.ns, in.wi);
-    if (cos_g <= 0.0f || cos_s <= 0.0f) continue;  // light below the surface
+    const float cos_s = lambert_cosine(si, in.wi);
+    if (cos_s <= 0.0f) continue;  // light below the surface
     const Ray shadow = shadow_ray_to_punctual(leave, light, in.wi);
     ++rays;
     if (!accel_.occluded(shadow)) E += in.irradiance * cos_s;
@@ -141,9 +141,8 @@ glm::vec3 WhittedIntegrator::area_lighting(const ShadingInputs& si, const Surfac
     const float u_pick = sampler.next1();
     const LightSample ls = sample_area_light(scene_, area_lights_, si.p, u_pick, sampler.next2());
     if (!ls.valid) continue;
-    const float cos_g = glm::dot(si.ng, ls.wi);
-    const float cos_s = glm::dot(si.ns, ls.wi);
-    if (cos_g <= 0.0f || cos_s <= 0.0f) continue;
+    const float cos_s = lambert_cosine(si, ls.wi);
+    if (cos_s <= 0.0f) continue;
     const Ray shadow = shadow_ray_to_area_light(leave, ls.point.point, ls.point.normal);
     ++rays;
     if (accel_.occluded(shadow)) continue;

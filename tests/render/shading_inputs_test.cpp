@@ -230,5 +230,65 @@ TEST(ShadingInputs, UntexturedMaterialPassesItsFactorsThrough) {
   EXPECT_EQ(si.uv1, glm::vec2(0.0f));
 }
 
+// ---- Folding directions where the shading and geometric normals disagree ----
+
+// Shading inputs with ng = +z and ns leaning `lean` degrees toward +x.
+ShadingInputs leaning(float lean_degrees) {
+  ShadingInputs si;
+  const float lean = lean_degrees * 3.14159265f / 180.0f;
+  si.ng = {0, 0, 1};
+  si.ns = {std::sin(lean), 0, std::cos(lean)};
+  return si;
+}
+
+// Directions on a grid uniform in (z, phi), each standing for the same solid angle.
+template <typename F>
+void for_sphere_grid(int nz, int nphi, F&& f) {
+  for (int i = 0; i < nz; ++i)
+    for (int j = 0; j < nphi; ++j) {
+      const float z = -1.0f + 2.0f * (float(i) + 0.5f) / float(nz), phi = 6.2831853f * (float(j) + 0.5f) / float(nphi);
+      const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+      f(glm::vec3(r * std::cos(phi), r * std::sin(phi), z), 4.0 * 3.14159265358979 / (double(nz) * nphi));
+    }
+}
+
+TEST(FoldedDirections, WedgeDirectionsLandWhereBothNormalsAgreeOnTheSameSideOfNs) {
+  for (float lean : {10.0f, 45.0f, 80.0f}) {
+    const ShadingInputs si = leaning(lean);
+    int wedge = 0;
+    for_sphere_grid(64, 128, [&](const glm::vec3& d, double) {
+      glm::vec3 w = d;
+      const bool agreed = sides_agree(si, d);
+      ASSERT_TRUE(fold_direction(si, w)) << "lean " << lean;
+      EXPECT_TRUE(sides_agree(si, w));
+      EXPECT_EQ(glm::dot(w, si.ns) > 0.0f, glm::dot(d, si.ns) > 0.0f) << "a reflection stays a reflection";
+      if (agreed) {
+        EXPECT_EQ(w, d) << "directions outside the wedge stay";
+      } else {
+        ++wedge;
+        EXPECT_NEAR(w.z, -d.z, 1e-6f);
+        EXPECT_EQ(mirror_through_surface(si, w), d) << "the mirror is its own inverse";
+      }
+    });
+    EXPECT_GT(wedge, 0) << "lean " << lean;
+  }
+}
+
+TEST(FoldedDirections, FoldedCosineLosesNothing) {
+  // A Lambertian lobe around a leaning ns: the cosine over ns's upper hemisphere integrates
+  // to pi. Dropping the wedge loses the part below the surface; folding it keeps all of it.
+  for (float lean : {30.0f, 60.0f}) {
+    const ShadingInputs si = leaning(lean);
+    double folded = 0.0, dropped = 0.0;
+    for_sphere_grid(1024, 1024, [&](const glm::vec3& d, double dw) {
+      auto cosine = [&](const glm::vec3& w) { return std::max(0.0, double(glm::dot(si.ns, w))); };
+      folded += evaluate_folded<double>(si, d, cosine) * dw;
+      dropped += (sides_agree(si, d) ? cosine(d) : 0.0) * dw;
+    });
+    EXPECT_NEAR(folded, 3.14159265358979, 2e-3) << "lean " << lean;
+    EXPECT_LT(dropped, 3.14159265358979 - 0.1) << "lean " << lean << ": the test must see the wedge";
+  }
+}
+
 }  // namespace
 }  // namespace lancer

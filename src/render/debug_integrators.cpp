@@ -6,6 +6,7 @@
 
 #include "accel/ray_offset.h"
 #include "render/bsdf.h"
+#include "render/coverage.h"
 #include "render/sobol_sampler.h"
 #include "render/shading_inputs.h"
 #include "render/surface.h"
@@ -52,7 +53,9 @@ glm::vec3 ambient_occlusion(const Scene& scene, const Accelerator& accel, const 
   const float reach = kAoRadius * std::sqrt(glm::dot(e, e));
   const ShadingFrame frame = ShadingFrame::from_normal(si.ng);
   const glm::vec3 origin = offset_ray_origin(si.p, si.ng);
-  int open = 0;
+  // The probes see through surfaces as far as their coverage lets them (render/coverage.h).
+  const bool has_coverage = scene_has_coverage(scene);
+  float open = 0.0f;
   for (int k = 0; k < kAoRays; ++k) {
     // Cosine-weighted (Malley's method: uniform on the disk, lifted to the hemisphere).
     const glm::vec2 u = sampler.next2();
@@ -62,10 +65,9 @@ glm::vec3 ambient_occlusion(const Scene& scene, const Accelerator& accel, const 
     probe.org = origin;
     probe.dir = frame.to_world(local);
     probe.tfar = reach;
-    ++rays;
-    open += accel.occluded(probe) ? 0 : 1;
+    open += shadow_visibility(scene, accel, probe, has_coverage, rays);
   }
-  return glm::vec3(static_cast<float>(open) / kAoRays);
+  return glm::vec3(open / kAoRays);
 }
 
 }  // namespace lancer

@@ -25,12 +25,16 @@ LightSample sample_area_light(const Scene& scene, const AreaLights& lights, cons
   if (!(s.cos_l > 0.0f)) return s;
   s.valid = true;
   s.radiance = s.point.radiance;
-  if (scene.materials[scene.material_id[s.point.prim]].emissive_texture.present()) {
-    // The texture at the point: shade the light's triangle as a ray from p would see it.
+  const Material& m = scene.materials[scene.material_id[s.point.prim]];
+  if (m.emissive_texture.present() || m.alpha_mode != AlphaMode::Opaque) {
+    // The texture at the point: shade the light's triangle as a ray from p would see it. A
+    // surface that covers only the fraction alpha of the point emits alpha times as much
+    // (render/coverage.h).
     Ray toward;
     toward.org = p;
     toward.dir = s.wi;
-    s.radiance = evaluate_shading(scene, toward, Hit{std::sqrt(s.dist2), s.point.prim, s.point.b1, s.point.b2}).emission;
+    const ShadingInputs si = evaluate_shading(scene, toward, Hit{std::sqrt(s.dist2), s.point.prim, s.point.b1, s.point.b2});
+    s.radiance = si.emission * si.alpha;
   }
   return s;
 }

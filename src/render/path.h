@@ -60,10 +60,11 @@ class PathIntegrator {
 
  private:
   struct Path;
-  // One bounce of `path` at `hit` of `ray`, `depth` bounces after the camera ray: adds the
-  // emission seen, queues its shadow rays (with what each adds if unoccluded) and, when the
-  // path goes on, its continuation ray. Returns whether it goes on.
-  bool bounce(Path& path, int index, const Ray& ray, const Hit& hit, int depth, Scratch& scratch,
+  // One step of `path` at `hit` of `ray`: adds the emission seen, queues its shadow rays
+  // (with what each adds if unoccluded) and, when the path goes on, its continuation ray;
+  // or, where the surface's coverage lets the ray through (render/coverage.h), only the
+  // ray continued past it. Returns whether the path goes on.
+  bool bounce(Path& path, int index, const Ray& ray, const Hit& hit, Scratch& scratch,
               std::uint64_t& ray_count) const;
   // Closest hits of scratch.rays into scratch.hits, and whether scratch.shadows[k] is
   // occluded into scratch.blocked[k]: the rays grouped by octant, big groups as packets.
@@ -86,11 +87,14 @@ class PathIntegrator {
   const Environment* environment_;
   int max_depth_;
   int light_samples_;
+  bool has_coverage_;  // some material is MASK or BLEND (render/coverage.h)
 };
 
 // The state of one path between bounces.
 struct PathIntegrator::Path {
   glm::vec3 L{0.0f}, beta{1.0f};
+  int bounces = 0;          // scattering events so far (passing through a surface is none)
+  float travelled = 0.0f;   // distance from the last scattering point to the ray's origin
   float prev_pdf = 0.0f;   // solid-angle pdf of the BSDF sample that made the ray
   bool prev_delta = true;  // the camera ray, or a delta lobe: no light sampling competes
   bool in_volume = false;

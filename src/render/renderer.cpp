@@ -12,6 +12,7 @@
 #include <glm/vec3.hpp>
 #include <tbb/enumerable_thread_specific.h>
 
+#include "render/coverage.h"
 #include "render/debug_integrators.h"
 #include "render/lights.h"
 #include "render/path.h"
@@ -83,6 +84,7 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
   tbb::enumerable_thread_specific<PathIntegrator::Scratch> path_scratch;
   // The radiance of every camera ray of a wavefront: the path tracer advances its paths
   // together (PathIntegrator::radiance_block), the others shade one pixel at a time.
+  const bool see_through = scene_has_coverage(scene);
   auto shade_block = [&](PrimaryBlock& primary, glm::vec3* L, std::uint64_t& rays) {
     const int n = primary.size();
     if (settings.integrator == IntegratorKind::Path) {
@@ -91,7 +93,9 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
     }
     for (int i = 0; i < n; ++i) {
       const Ray& ray = primary.ray(i);
-      const Hit& hit = primary.hit(i);
+      Hit hit = primary.hit(i);
+      // The debug views see through cut-outs (coverage 0); Whitted weighs coverage itself.
+      if (see_through && settings.integrator != IntegratorKind::Whitted) skip_uncovered(scene, accel, ray, hit, rays);
       switch (settings.integrator) {
         case IntegratorKind::Whitted: L[i] = whitted->radiance_from_hit(ray, hit, primary.sampler(i), rays); break;
         case IntegratorKind::Ao: L[i] = ambient_occlusion(scene, accel, ray, hit, primary.sampler(i), rays); break;

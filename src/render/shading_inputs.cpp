@@ -56,6 +56,23 @@ glm::vec4 normal_map_frame(const Scene& scene, std::size_t tri, std::uint8_t fla
 
 }  // namespace
 
+float surface_coverage(const Scene& scene, const Hit& hit) {
+  const Material& m = scene.materials[scene.material_id[hit.prim]];
+  if (m.alpha_mode == AlphaMode::Opaque) return 1.0f;
+  const std::size_t tri = hit.prim;
+  const float w = 1.0f - hit.u - hit.v, u = hit.u, v = hit.v;
+  const std::uint8_t flags = tri < scene.attrib_flags.size() ? scene.attrib_flags[tri] : 0;
+  float alpha = m.base_color.a;
+  if (m.base_color_texture.present()) {
+    const glm::vec2 uv0 = flags & kHasTexcoords ? interpolate(scene.texcoords, tri, w, u, v) : glm::vec2(0.0f);
+    const glm::vec2 uv1 =
+        (flags & kHasTexcoords1) && !scene.texcoords1.empty() ? interpolate(scene.texcoords1, tri, w, u, v) : glm::vec2(0.0f);
+    alpha *= sample_texture(scene, m.base_color_texture, uv0, uv1, TexelEncoding::Linear).a;
+  }
+  if (flags & kHasColors) alpha *= interpolate(scene.colors, tri, w, u, v).a;
+  return coverage(m, alpha);
+}
+
 ShadingInputs evaluate_shading(const Scene& scene, const Ray& ray, const Hit& hit) {
   // Geometry exactly as the Whitted integrator sees it.
   const SurfacePoint sp = make_surface_point(scene, ray, hit);

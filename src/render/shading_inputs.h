@@ -15,7 +15,8 @@
 // OPAQUE, 0 or 1 for MASK (opaque when alpha >= alphaCutoff), the value itself for
 // BLEND. The occlusion texture is ignored: ambient occlusion approximates shadowing
 // from indirect light, which a path tracer computes itself, so applying it would darken
-// twice. Vertex colours (COLOR_0) are not read.
+// twice. Vertex colours (COLOR_0) multiply baseColor and its alpha. How the integrators use
+// alpha: render/coverage.h.
 //
 // Geometry: ng comes from the triangle's winding (cross(b - a, c - a) is the front) and
 // ns from the interpolated normals, or equals ng when the primitive has none; both are
@@ -76,6 +77,10 @@ inline bool is_thin_walled(const Material& m) { return !(m.thickness > 0.0f); }
 
 // `hit` must be valid and come from `ray` against `scene.triangles`.
 ShadingInputs evaluate_shading(const Scene& scene, const Ray& ray, const Hit& hit);
+
+// evaluate_shading(...).alpha alone, for the rays that only ask whether a surface is there
+// (render/coverage.h): 1 for an OPAQUE material without looking further.
+float surface_coverage(const Scene& scene, const Hit& hit);
 
 // Scattered directions and the two normals (issue 20), for every integrator. A BSDF works
 // in the shading frame: a direction on wo's side of ns is reflected, one on the other side

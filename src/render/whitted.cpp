@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 
 #include "accel/ray_offset.h"
+#include "render/coverage.h"
 #include "render/shading_inputs.h"
 #include "render/fresnel.h"
 #include "render/light_sampling.h"
@@ -43,7 +44,12 @@ float lambert_cosine(const ShadingInputs& si, const glm::vec3& wi) {
 
 WhittedIntegrator::WhittedIntegrator(const Scene& scene, const Accelerator& accel, const AreaLights& area_lights,
                                      int max_depth, int light_samples)
-    : scene_(scene), accel_(accel), area_lights_(area_lights), max_depth_(max_depth), light_samples_(light_samples) {}
+    : scene_(scene),
+      accel_(accel),
+      area_lights_(area_lights),
+      max_depth_(max_depth),
+      light_samples_(light_samples),
+      has_coverage_(scene_has_coverage(scene)) {}
 
 glm::vec3 WhittedIntegrator::trace(const Ray& ray, int depth, SobolSampler& sampler, std::uint64_t& rays) const {
   ++rays;
@@ -54,7 +60,16 @@ glm::vec3 WhittedIntegrator::shade(const Ray& ray, const Hit& hit, int depth, So
                                    std::uint64_t& rays) const {
   if (!hit.valid()) return glm::vec3(0.0f);  // no environment yet
   const ShadingInputs si = evaluate_shading(scene_, ray, hit);
+  if (!(si.alpha < 1.0f)) return shade_surface(si, ray, depth, sampler, rays);
+  ++rays;
+  const Ray past = continue_past(scene_, ray, hit);
+  const glm::vec3 behind = shade(past, accel_.intersect(past), depth, sampler, rays);
+  if (!(si.alpha > 0.0f)) return behind;
+  return si.alpha * shade_surface(si, ray, depth, sampler, rays) + (1.0f - si.alpha) * behind;
+}
 
+glm::vec3 WhittedIntegrator::shade_surface(const ShadingInputs& si, const Ray& ray, int depth, SobolSampler& sampler,
+                                           std::uint64_t& rays) const {
   glm::vec3 L(0.0f);
   if (si.front_face) L += si.emission;
   if (is_mirror(si)) {
@@ -124,8 +139,7 @@ glm::vec3 WhittedIntegrator::punctual_lighting(const ShadingInputs& si, const Su
     const float cos_s = lambert_cosine(si, in.wi);
     if (cos_s <= 0.0f) continue;  // light below the surface
     const Ray shadow = shadow_ray_to_punctual(leave, light, in.wi);
-    ++rays;
-    if (!accel_.occluded(shadow)) E += in.irradiance * cos_s;
+    E += in.irradiance * (cos_s * shadow_visibility(scene_, accel_, shadow, has_coverage_, rays));
   }
   return E;
 }
@@ -144,9 +158,8 @@ glm::vec3 WhittedIntegrator::area_lighting(const ShadingInputs& si, const Surfac
     const float cos_s = lambert_cosine(si, ls.wi);
     if (cos_s <= 0.0f) continue;
     const Ray shadow = shadow_ray_to_area_light(leave, ls.point.point, ls.point.normal);
-    ++rays;
-    if (accel_.occluded(shadow)) continue;
-    sum += ls.radiance * (cos_s / ls.pdf_solid_angle());
+    const float visible = shadow_visibility(scene_, accel_, shadow, has_coverage_, rays);
+    if (visible > 0.0f) sum += ls.radiance * (visible * cos_s / ls.pdf_solid_angle());
   }
   return sum / static_cast<float>(light_samples_);
 }

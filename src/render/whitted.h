@@ -15,7 +15,10 @@
 //    straight on;
 //  - Lambert (the remaining weight, BRDF = base colour / pi) lit directly by the punctual
 //    lights (one shadow ray each) and by `light_samples` samples of the emissive triangles.
-// Secondary rays stop after `max_depth` specular bounces; the background is black.
+// A surface covers the fraction alpha of its point (glTF alphaMode, render/coverage.h): the
+// rest of the radiance comes from behind it along the same ray, and shadow rays let
+// through 1 - alpha. Secondary rays stop after `max_depth` specular bounces (passing a
+// surface is none); the background is black.
 #pragma once
 
 #include <cstdint>
@@ -54,8 +57,13 @@ class WhittedIntegrator {
   glm::vec3 direct_lighting(const ShadingInputs& si, SobolSampler& sampler, std::uint64_t& rays) const;
   // Counts and intersects `ray`, then shades its hit.
   glm::vec3 trace(const Ray& ray, int depth, SobolSampler& sampler, std::uint64_t& rays) const;
-  // Radiance along `ray` given its closest hit, `depth` specular bounces from the camera.
+  // Radiance along `ray` given its closest hit, `depth` specular bounces from the camera:
+  // the surface's own for the fraction alpha it covers (render/coverage.h), what lies
+  // behind it for the rest.
   glm::vec3 shade(const Ray& ray, const Hit& hit, int depth, SobolSampler& sampler, std::uint64_t& rays) const;
+  // The covered surface's radiance: emission, then mirror, dielectric or Lambert.
+  glm::vec3 shade_surface(const ShadingInputs& si, const Ray& ray, int depth, SobolSampler& sampler,
+                          std::uint64_t& rays) const;
   glm::vec3 mirror(const ShadingInputs& si, const Ray& ray, int depth, SobolSampler& sampler,
                    std::uint64_t& rays) const;
   glm::vec3 dielectric(const ShadingInputs& si, const Ray& ray, int depth, SobolSampler& sampler,
@@ -69,6 +77,7 @@ class WhittedIntegrator {
   const AreaLights& area_lights_;
   int max_depth_;
   int light_samples_;
+  bool has_coverage_;  // some material is MASK or BLEND
 };
 
 }  // namespace lancer

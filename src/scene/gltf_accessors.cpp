@@ -2,6 +2,7 @@
 
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -170,12 +171,23 @@ std::uint32_t read_unsigned(const unsigned char* p, int component_type) {
 }
 
 // glTF 2.0 spec, "Animations" / "Meshes": normalized unsigned integers map c to c / max.
-float read_component(const unsigned char* p, int component_type) {
+// One component as a float: integers as they are, or mapped to [0, 1] (unsigned) or
+// [-1, 1] (signed, max(c / max, -1)) when normalized (glTF 2.0, "Animations" and
+// KHR_mesh_quantization give the same rules).
+float read_component(const unsigned char* p, int component_type, bool normalized) {
   switch (component_type) {
     case kUByte:
-      return float(p[0]) / 255.0f;
+      return normalized ? float(p[0]) / 255.0f : float(p[0]);
     case kUShort:
-      return float(read_unsigned(p, kUShort)) / 65535.0f;
+      return normalized ? float(read_unsigned(p, kUShort)) / 65535.0f : float(read_unsigned(p, kUShort));
+    case kByte: {
+      const float c = float(static_cast<std::int8_t>(p[0]));
+      return normalized ? std::max(c / 127.0f, -1.0f) : c;
+    }
+    case kShort: {
+      const float c = float(static_cast<std::int16_t>(read_unsigned(p, kUShort)));
+      return normalized ? std::max(c / 32767.0f, -1.0f) : c;
+    }
     default: {
       float v;
       std::memcpy(&v, p, 4);
@@ -225,9 +237,10 @@ std::vector<glm::vec<N, float>> read_float_vectors(const ModelRef& m, int index,
                                                    const Requirement& req) {
   const Layout l = layout_of(m, index, what, req);
   const int ctype = l.accessor->componentType;
+  const bool normalized = l.accessor->normalized;
   std::vector<glm::vec<N, float>> out(l.count, glm::vec<N, float>(0.0f));
   auto decode = [&](glm::vec<N, float>& v, const unsigned char* p) {
-    for (int c = 0; c < N; ++c) v[c] = read_component(p + std::size_t(c) * l.component_size, ctype);
+    for (int c = 0; c < N; ++c) v[c] = read_component(p + std::size_t(c) * l.component_size, ctype, normalized);
   };
   if (l.base)
     for (std::size_t k = 0; k < l.count; ++k) decode(out[k], l.base + k * l.stride);
@@ -239,6 +252,20 @@ bool float_only(int component_type, bool /*normalized*/) { return component_type
 
 bool texcoord_types(int component_type, bool normalized) {
   return component_type == kFloat || (normalized && (component_type == kUByte || component_type == kUShort));
+}
+
+// KHR_mesh_quantization, "Extending Mesh Attributes": what each attribute may also be.
+bool integer_component(int component_type) {
+  return component_type == kByte || component_type == kUByte || component_type == kShort || component_type == kUShort;
+}
+bool quantized_position_types(int component_type, bool /*normalized*/) {
+  return component_type == kFloat || integer_component(component_type);
+}
+bool quantized_direction_types(int component_type, bool normalized) {
+  return component_type == kFloat || (normalized && (component_type == kByte || component_type == kShort));
+}
+bool quantized_texcoord_types(int component_type, bool /*normalized*/) {
+  return component_type == kFloat || integer_component(component_type);
 }
 
 bool index_types(int component_type, bool normalized) {
@@ -275,7 +302,51 @@ std::vector<glm::vec4> read_vec4_floats(const ModelRef& m, int accessor, const s
   return read_float_vectors<4>(m, accessor, what, {TINYGLTF_TYPE_VEC4, 4, "VEC4 of FLOAT", float_only});
 }
 
+bool uses_mesh_quantization(const ModelRef& m) {
+  for (const std::string& name : m.model.extensionsUsed)
+    if (name == "KHR_mesh_quantization") return true;
+  return false;
+}
+
+std::vector<glm::vec3> read_positions(const ModelRef& m, int accessor, const std::string& what) {
+  if (!uses_mesh_quantization(m))
+    return read_float_vectors<3>(
+        m, accessor, what,
+        {TINYGLTF_TYPE_VEC3, 3, "VEC3 of FLOAT (integers need the file to use KHR_mesh_quantization)", float_only});
+  return read_float_vectors<3>(m, accessor, what,
+                               {TINYGLTF_TYPE_VEC3, 3,
+                                "VEC3 of FLOAT, BYTE, UNSIGNED_BYTE, SHORT or UNSIGNED_SHORT (KHR_mesh_quantization)",
+                                quantized_position_types});
+}
+
+std::vector<glm::vec3> read_normals(const ModelRef& m, int accessor, const std::string& what) {
+  if (!uses_mesh_quantization(m))
+    return read_float_vectors<3>(
+        m, accessor, what,
+        {TINYGLTF_TYPE_VEC3, 3, "VEC3 of FLOAT (integers need the file to use KHR_mesh_quantization)", float_only});
+  return read_float_vectors<3>(
+      m, accessor, what,
+      {TINYGLTF_TYPE_VEC3, 3, "VEC3 of FLOAT or of normalized BYTE/SHORT (KHR_mesh_quantization)",
+       quantized_direction_types});
+}
+
+std::vector<glm::vec4> read_tangents(const ModelRef& m, int accessor, const std::string& what) {
+  if (!uses_mesh_quantization(m))
+    return read_float_vectors<4>(
+        m, accessor, what,
+        {TINYGLTF_TYPE_VEC4, 4, "VEC4 of FLOAT (integers need the file to use KHR_mesh_quantization)", float_only});
+  return read_float_vectors<4>(
+      m, accessor, what,
+      {TINYGLTF_TYPE_VEC4, 4, "VEC4 of FLOAT or of normalized BYTE/SHORT (KHR_mesh_quantization)",
+       quantized_direction_types});
+}
+
 std::vector<glm::vec2> read_texcoords(const ModelRef& m, int accessor, const std::string& what) {
+  if (uses_mesh_quantization(m))
+    return read_float_vectors<2>(m, accessor, what,
+                                 {TINYGLTF_TYPE_VEC2, 2,
+                                  "VEC2 of FLOAT, BYTE, UNSIGNED_BYTE, SHORT or UNSIGNED_SHORT (KHR_mesh_quantization)",
+                                  quantized_texcoord_types});
   return read_float_vectors<2>(
       m, accessor, what,
       {TINYGLTF_TYPE_VEC2, 2, "VEC2 of FLOAT or of normalized UNSIGNED_BYTE/UNSIGNED_SHORT", texcoord_types});

@@ -33,7 +33,16 @@ inline constexpr std::size_t kMaxZeroFilledElements = std::size_t(1) << 24;
 // allow, or reaches outside its data.
 std::vector<glm::vec3> read_vec3_floats(const ModelRef& m, int accessor, const std::string& what);  // VEC3 FLOAT
 std::vector<glm::vec4> read_vec4_floats(const ModelRef& m, int accessor, const std::string& what);  // VEC4 FLOAT
-// VEC2 of FLOAT, or of normalized UNSIGNED_BYTE / UNSIGNED_SHORT (mapped to [0, 1]).
+// Mesh attributes. Without KHR_mesh_quantization in extensionsUsed: POSITION and NORMAL
+// VEC3 of FLOAT, TANGENT VEC4 of FLOAT, TEXCOORD_n VEC2 of FLOAT or of normalized
+// UNSIGNED_BYTE / UNSIGNED_SHORT. With it, also what the extension allows: POSITION and
+// TEXCOORD_n of BYTE, UNSIGNED_BYTE, SHORT or UNSIGNED_SHORT, normalized or not (the node
+// transforms or KHR_texture_transform scale them back), NORMAL and TANGENT of normalized
+// BYTE or SHORT. Normalized integers map to [0, 1] or [-1, 1] as the spec says.
+bool uses_mesh_quantization(const ModelRef& m);
+std::vector<glm::vec3> read_positions(const ModelRef& m, int accessor, const std::string& what);
+std::vector<glm::vec3> read_normals(const ModelRef& m, int accessor, const std::string& what);
+std::vector<glm::vec4> read_tangents(const ModelRef& m, int accessor, const std::string& what);
 std::vector<glm::vec2> read_texcoords(const ModelRef& m, int accessor, const std::string& what);
 // COLOR_0: VEC3 or VEC4 of FLOAT or of normalized UNSIGNED_BYTE/UNSIGNED_SHORT, as linear
 // RGBA (alpha 1 for VEC3). A non-finite float is an error; floats outside [0, 1] are

@@ -46,7 +46,7 @@ WorldVertices world_vertices(const ModelRef& m, const tinygltf::Primitive& prim,
   WorldVertices v;
   const int position = attribute(prim, "POSITION");
   if (position < 0) throw SceneError(m.file, what + " has no POSITION attribute");
-  v.positions = read_vec3_floats(m, position, what + " POSITION");
+  v.positions = read_positions(m, position, what + " POSITION");
   const std::size_t n = v.positions.size();
   auto check_count = [&](std::size_t count, const char* name) {
     if (count != n)
@@ -54,7 +54,7 @@ WorldVertices world_vertices(const ModelRef& m, const tinygltf::Primitive& prim,
                                    std::to_string(n));
   };
   if (const int a = attribute(prim, "NORMAL"); a >= 0) {
-    v.normals = read_vec3_floats(m, a, what + " NORMAL");
+    v.normals = read_normals(m, a, what + " NORMAL");
     check_count(v.normals.size(), "NORMAL");
   }
   if (const int a = attribute(prim, "TEXCOORD_0"); a >= 0) {
@@ -70,7 +70,7 @@ WorldVertices world_vertices(const ModelRef& m, const tinygltf::Primitive& prim,
     check_count(v.colors.size(), "COLOR_0");
   }
   if (const int a = attribute(prim, "TANGENT"); a >= 0 && !v.normals.empty()) {
-    v.tangents = read_vec4_floats(m, a, what + " TANGENT");
+    v.tangents = read_tangents(m, a, what + " TANGENT");
     check_count(v.tangents.size(), "TANGENT");
   }
 

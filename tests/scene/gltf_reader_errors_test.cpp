@@ -213,16 +213,16 @@ TEST_F(GltfErrors, BadByteStride) {
 TEST_F(GltfErrors, WrongAccessorTypesForAttributes) {
   GltfBuilder b = base_triangle();
   b.doc["accessors"][0]["type"] = "VEC2";
-  expect_error(b, "POSITION (accessor 0) must be VEC3 of FLOAT, but it is VEC2 of FLOAT");
+  expect_error(b, "POSITION (accessor 0) must be VEC3 of FLOAT (integers need the file to use KHR_mesh_quantization), but it is VEC2 of FLOAT");
   b = base_triangle();
   b.doc["accessors"][0]["componentType"] = GltfBuilder::kUShort;
-  expect_error(b, "must be VEC3 of FLOAT, but it is VEC3 of UNSIGNED_SHORT");
+  expect_error(b, "must be VEC3 of FLOAT (integers need the file to use KHR_mesh_quantization), but it is VEC3 of UNSIGNED_SHORT");
   b = base_triangle();
   b.doc["accessors"][1]["componentType"] = GltfBuilder::kFloat;
   expect_error(b, "indices (accessor 1) must be SCALAR of UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT");
   b = base_triangle();
   b.doc["meshes"][0]["primitives"][0]["attributes"]["NORMAL"] = 1;  // the SCALAR indices
-  expect_error(b, "NORMAL (accessor 1) must be VEC3 of FLOAT");
+  expect_error(b, "NORMAL (accessor 1) must be VEC3 of FLOAT (integers need the file to use KHR_mesh_quantization)");
   // TEXCOORD_0 as UNSIGNED_BYTE must be normalized.
   b = base_triangle();
   const std::vector<std::uint8_t> uv = {0, 0, 0, 0, 255, 0, 0, 0, 0, 255, 0, 0};

@@ -352,6 +352,12 @@ std::vector<glm::vec2> read_texcoords(const ModelRef& m, int accessor, const std
       {TINYGLTF_TYPE_VEC2, 2, "VEC2 of FLOAT or of normalized UNSIGNED_BYTE/UNSIGNED_SHORT", texcoord_types});
 }
 
+std::vector<glm::vec4> read_rotations(const ModelRef& m, int accessor, const std::string& what) {
+  return read_float_vectors<4>(m, accessor, what,
+                               {TINYGLTF_TYPE_VEC4, 4, "VEC4 of FLOAT or of normalized BYTE/SHORT",
+                                quantized_direction_types});
+}
+
 std::vector<glm::vec4> read_colors(const ModelRef& m, int accessor, const std::string& what) {
   const char* described = "VEC3 or VEC4 of FLOAT or of normalized UNSIGNED_BYTE/UNSIGNED_SHORT";
   const auto& accessors = m.model.accessors;

@@ -44,6 +44,9 @@ std::vector<glm::vec3> read_positions(const ModelRef& m, int accessor, const std
 std::vector<glm::vec3> read_normals(const ModelRef& m, int accessor, const std::string& what);
 std::vector<glm::vec4> read_tangents(const ModelRef& m, int accessor, const std::string& what);
 std::vector<glm::vec2> read_texcoords(const ModelRef& m, int accessor, const std::string& what);
+// Quaternions (x, y, z, w): VEC4 of FLOAT or of normalized BYTE/SHORT (as animation
+// samplers and EXT_mesh_gpu_instancing allow).
+std::vector<glm::vec4> read_rotations(const ModelRef& m, int accessor, const std::string& what);
 // COLOR_0: VEC3 or VEC4 of FLOAT or of normalized UNSIGNED_BYTE/UNSIGNED_SHORT, as linear
 // RGBA (alpha 1 for VEC3). A non-finite float is an error; floats outside [0, 1] are
 // clamped to it (the range the specification gives colours).

@@ -133,6 +133,21 @@ void PrimitiveEmitter::emit_mesh(int mesh, const glm::dmat4& world) {
   for (std::size_t p = 0; p < count; ++p) emit_primitive(mesh, int(p), world);
 }
 
+std::size_t PrimitiveEmitter::triangle_bound(int mesh) const {
+  if (mesh < 0 || std::size_t(mesh) >= m_.model.meshes.size()) return 0;
+  const auto& accessors = m_.model.accessors;
+  std::size_t bound = 0;
+  for (const tinygltf::Primitive& prim : m_.model.meshes[std::size_t(mesh)].primitives) {
+    int counted = prim.indices;
+    if (counted < 0) {
+      const auto position = prim.attributes.find("POSITION");
+      counted = position == prim.attributes.end() ? -1 : position->second;
+    }
+    if (counted >= 0 && std::size_t(counted) < accessors.size()) bound += accessors[std::size_t(counted)].count;
+  }
+  return bound;
+}
+
 std::uint32_t PrimitiveEmitter::material_id(int material, const std::string& what) {
   if (material >= 0) {
     if (std::size_t(material) >= m_.model.materials.size())

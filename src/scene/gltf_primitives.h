@@ -25,6 +25,10 @@ class PrimitiveEmitter {
   // nodes gets ids for each instance; dropped zero-area triangles still use an id.
   void emit_mesh(int mesh, const glm::dmat4& world);
 
+  // At least the number of triangles emit_mesh(mesh) makes (the index or vertex counts of
+  // its primitives), without reading their data; 0 for a mesh index out of range.
+  std::size_t triangle_bound(int mesh) const;
+
  private:
   void emit_primitive(int mesh, int primitive, const glm::dmat4& world);
   std::uint32_t material_id(int material, const std::string& what);

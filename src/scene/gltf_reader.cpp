@@ -19,6 +19,7 @@
 #include <span>
 #include <system_error>
 
+#include "scene/gltf_instancing.h"
 #include "scene/gltf_json_checks.h"
 #include "scene/gltf_materials.h"
 #include "scene/gltf_nodes.h"
@@ -229,7 +230,14 @@ Scene scene_from_model(const tinygltf::Model& model, const std::string& file) {
   gltf::PrimitiveEmitter emitter(m, scene, builder);
   for (const gltf::NodeInstance& inst : gltf::scene_nodes(m)) {
     const tinygltf::Node& node = model.nodes[std::size_t(inst.node)];
-    if (node.mesh >= 0) emitter.emit_mesh(node.mesh, inst.world);
+    if (node.mesh >= 0) {
+      // Each instance is a copy of the mesh (there is no two-level acceleration structure
+      // yet): instance_transforms bounds the copies' triangles before any is made.
+      const std::vector<glm::dmat4> instances =
+          gltf::instance_transforms(m, inst.node, emitter.triangle_bound(node.mesh));
+      if (instances.empty()) emitter.emit_mesh(node.mesh, inst.world);
+      for (const glm::dmat4& instance : instances) emitter.emit_mesh(node.mesh, inst.world * instance);
+    }
     if (node.camera >= 0) add_camera(m, inst.node, node.camera, inst.world, scene);
     add_light(m, inst.node, inst.world, scene);
   }

@@ -301,7 +301,10 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
   const Bsdf bsdf(inputs, ShadingFrame::from_orthonormal(si.ns, si.tangent), si.front_face);
   const Bsdf::Outgoing wo = bsdf.outgoing(-dir);
   // The BSDF folded where the shading and geometric normals disagree (shading_inputs.h).
+  // Where the two normals are the same (flat shading) no direction lies in the wedge.
+  const bool leaning = si.ns != si.ng;
   auto evaluate = [&](const glm::vec3& wi) {
+    if (!leaning) return bsdf.evaluate(wo, wi);
     return evaluate_folded<BsdfEval>(si, wi, [&](const glm::vec3& w) { return bsdf.evaluate(wo, w); });
   };
   auto queue_shadow = [&](const ShadowAim& aim, const glm::vec3& contribution) {
@@ -347,13 +350,13 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
   const std::optional<BsdfSample> bs = bsdf.sample(wo, u_split, sampler.get2(dims + kBsdfDimensions));
   if (!bs) return false;
   glm::vec3 wi = bs->wi;
-  if (!fold_direction(si, wi)) return false;
+  if (leaning && !fold_direction(si, wi)) return false;
   beta *= bs->weight;
   if (is_black(beta) || !is_finite(beta)) return false;
   // MIS needs the folded density of wi: bs->pdf plus that of wi's other preimage, which
   // exists only near a leaning shading normal.
   path.prev_pdf = bs->pdf;
-  if (!bs->delta) {
+  if (leaning && !bs->delta) {
     if (wi != bs->wi)
       path.prev_pdf += bsdf.evaluate(wo, wi).pdf;
     else if (const glm::vec3 m = mirror_through_surface(si, wi); !sides_agree(si, m))

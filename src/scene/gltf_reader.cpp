@@ -220,6 +220,11 @@ void add_light(const ModelRef& m, int node, const glm::dmat4& world, Scene& scen
 
 Scene scene_from_model(const tinygltf::Model& model, const std::string& file) {
   const ModelRef m{model, file};
+  // A required extension Lancer lacks was refused already (check_gltf_json); one the file
+  // only uses is rendered without, and the user is told which.
+  for (const std::string& used : model.extensionsUsed)
+    if (!gltf::extension_supported(used))
+      print_scene_warnings(file, "extension " + used + " is not supported: the scene is rendered without it");
 
   Scene scene;
   scene.source = file;

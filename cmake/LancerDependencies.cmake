@@ -6,6 +6,8 @@ find_package(nlohmann_json REQUIRED)
 find_package(OpenEXR REQUIRED)
 find_package(tinyobjloader REQUIRED)
 find_package(CLI11 REQUIRED)
+# KHR_draco_mesh_compression: Google's decoder (Debian's tinygltf is built without it).
+find_package(draco CONFIG REQUIRED)
 
 # stb ships no CMake config: Debian's libstb.so holds the implementations.
 find_path(STB_INCLUDE_DIR stb_image.h PATH_SUFFIXES stb REQUIRED)

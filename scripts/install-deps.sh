@@ -5,7 +5,7 @@ set -euo pipefail
 packages=(
   g++ cmake make git pkg-config
   libglm-dev libtbb-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libopenexr-dev
-  libtinyobjloader-dev libcli11-dev libgtest-dev libbenchmark-dev libembree-dev
+  libtinyobjloader-dev libcli11-dev libgtest-dev libbenchmark-dev libembree-dev libdraco-dev
   clang-14 libclang-rt-14-dev  # `make fuzz`: libFuzzer and the sanitizer runtimes for clang
 )
 missing=()

@@ -358,6 +358,38 @@ std::vector<glm::vec4> read_rotations(const ModelRef& m, int accessor, const std
                                 quantized_direction_types});
 }
 
+namespace {
+bool joint_types(int component_type, bool normalized) {
+  return !normalized && (component_type == kUByte || component_type == kUShort);
+}
+}  // namespace
+
+std::vector<glm::uvec4> read_joints(const ModelRef& m, int accessor, const std::string& what) {
+  const std::vector<glm::vec4> j = read_float_vectors<4>(
+      m, accessor, what, {TINYGLTF_TYPE_VEC4, 4, "VEC4 of UNSIGNED_BYTE or UNSIGNED_SHORT", joint_types});
+  std::vector<glm::uvec4> out(j.size());
+  for (std::size_t k = 0; k < j.size(); ++k) out[k] = glm::uvec4(j[k]);  // exact: at most 65535
+  return out;
+}
+
+std::vector<glm::vec4> read_weights(const ModelRef& m, int accessor, const std::string& what) {
+  return read_float_vectors<4>(
+      m, accessor, what,
+      {TINYGLTF_TYPE_VEC4, 4, "VEC4 of FLOAT or of normalized UNSIGNED_BYTE/UNSIGNED_SHORT", texcoord_types});
+}
+
+std::vector<glm::mat4> read_mat4_floats(const ModelRef& m, int accessor, const std::string& what) {
+  const Layout l = layout_of(m, accessor, what, {TINYGLTF_TYPE_MAT4, 16, "MAT4 of FLOAT", float_only});
+  std::vector<glm::mat4> out(l.count, glm::mat4(0.0f));
+  auto decode = [&](glm::mat4& v, const unsigned char* p) {
+    for (int c = 0; c < 16; ++c) v[c / 4][c % 4] = read_component(p + std::size_t(c) * 4, kFloat, false);
+  };
+  if (l.base)
+    for (std::size_t k = 0; k < l.count; ++k) decode(out[k], l.base + k * l.stride);
+  apply_sparse(m, accessor, what, l, [&](std::uint32_t k, const unsigned char* p) { decode(out[k], p); });
+  return out;
+}
+
 std::vector<glm::vec4> read_colors(const ModelRef& m, int accessor, const std::string& what) {
   const char* described = "VEC3 or VEC4 of FLOAT or of normalized UNSIGNED_BYTE/UNSIGNED_SHORT";
   const auto& accessors = m.model.accessors;

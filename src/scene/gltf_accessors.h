@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
+#include <glm/mat4x4.hpp>
 #include <glm/vec4.hpp>
 #include <string>
 #include <vector>
@@ -47,6 +48,12 @@ std::vector<glm::vec2> read_texcoords(const ModelRef& m, int accessor, const std
 // Quaternions (x, y, z, w): VEC4 of FLOAT or of normalized BYTE/SHORT (as animation
 // samplers and EXT_mesh_gpu_instancing allow).
 std::vector<glm::vec4> read_rotations(const ModelRef& m, int accessor, const std::string& what);
+// Skinning (glTF 2.0, "Skinned Mesh Attributes"): JOINTS_n VEC4 of UNSIGNED_BYTE or
+// UNSIGNED_SHORT; WEIGHTS_n VEC4 of FLOAT or of normalized UNSIGNED_BYTE/UNSIGNED_SHORT;
+// inverseBindMatrices MAT4 of FLOAT (column-major, as glm).
+std::vector<glm::uvec4> read_joints(const ModelRef& m, int accessor, const std::string& what);
+std::vector<glm::vec4> read_weights(const ModelRef& m, int accessor, const std::string& what);
+std::vector<glm::mat4> read_mat4_floats(const ModelRef& m, int accessor, const std::string& what);
 // COLOR_0: VEC3 or VEC4 of FLOAT or of normalized UNSIGNED_BYTE/UNSIGNED_SHORT, as linear
 // RGBA (alpha 1 for VEC3). A non-finite float is an error; floats outside [0, 1] are
 // clamped to it (the range the specification gives colours).

@@ -133,4 +133,20 @@ std::vector<NodeInstance> scene_nodes(const ModelRef& m) {
   return order;
 }
 
+std::vector<glm::dmat4> node_worlds(const ModelRef& m) {
+  const std::vector<int> parent = parents_of(m);
+  std::vector<glm::dmat4> world(parent.size(), glm::dmat4(1.0));
+  std::vector<int> stack;
+  for (std::size_t i = 0; i < parent.size(); ++i)
+    if (parent[i] == -1) stack.push_back(int(i));
+  while (!stack.empty()) {
+    const int node = stack.back();
+    stack.pop_back();
+    const int up = parent[std::size_t(node)];
+    world[std::size_t(node)] = (up >= 0 ? world[std::size_t(up)] : glm::dmat4(1.0)) * local_transform(m, node);
+    for (int c : m.model.nodes[std::size_t(node)].children) stack.push_back(c);
+  }
+  return world;
+}
+
 }  // namespace lancer::gltf

@@ -20,4 +20,8 @@ struct NodeInstance {
 // a node's matrix/TRS is malformed: glTF requires the hierarchy to be a forest.
 std::vector<NodeInstance> scene_nodes(const ModelRef& m);
 
+// The world matrix of every node of the file, in or out of the scene (skins may name
+// joints anywhere), indexed by node. Throws as scene_nodes does.
+std::vector<glm::dmat4> node_worlds(const ModelRef& m);
+
 }  // namespace lancer::gltf

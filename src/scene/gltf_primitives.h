@@ -4,11 +4,21 @@
 #include <cstdint>
 #include <glm/mat4x4.hpp>
 #include <optional>
+#include <vector>
 
 #include "scene/gltf_accessors.h"
 #include "scene/scene_builder.h"
 
 namespace lancer::gltf {
+
+// How a node poses its mesh (glTF 2.0, "Morph Targets" and "Skins"): morph weights, one
+// per target of each primitive (node.weights, else mesh.weights), and for a skinned mesh
+// its joint matrices, world(joint j) * inverseBindMatrix j, which replace the node's own
+// transform ("the transform of the skinned mesh node MUST be ignored").
+struct MeshPose {
+  std::vector<double> morph_weights;  // empty: no target applied
+  std::vector<glm::dmat4> joints;     // empty: not skinned
+};
 
 class PrimitiveEmitter {
  public:
@@ -23,14 +33,14 @@ class PrimitiveEmitter {
   // emission order, i.e. node traversal order (see scene_nodes), then primitive order
   // within the mesh, then triangle order within the primitive. A mesh used by two
   // nodes gets ids for each instance; dropped zero-area triangles still use an id.
-  void emit_mesh(int mesh, const glm::dmat4& world);
+  void emit_mesh(int mesh, const glm::dmat4& world, const MeshPose& pose = {});
 
   // At least the number of triangles emit_mesh(mesh) makes (the index or vertex counts of
   // its primitives), without reading their data; 0 for a mesh index out of range.
   std::size_t triangle_bound(int mesh) const;
 
  private:
-  void emit_primitive(int mesh, int primitive, const glm::dmat4& world);
+  void emit_primitive(int mesh, int primitive, const glm::dmat4& world, const MeshPose& pose);
   std::uint32_t material_id(int material, const std::string& what);
 
   const ModelRef& m_;

@@ -19,11 +19,13 @@
 #include <span>
 #include <system_error>
 
+#include "scene/gltf_draco.h"
 #include "scene/gltf_instancing.h"
 #include "scene/gltf_json_checks.h"
 #include "scene/gltf_materials.h"
 #include "scene/gltf_nodes.h"
 #include "scene/gltf_primitives.h"
+#include "scene/gltf_skins.h"
 #include "scene/scene_builder.h"
 #include "scene/scene_error.h"
 #include "scene/scene_warning.h"
@@ -90,6 +92,29 @@ bool read_regular_file(std::vector<unsigned char>* out, std::string* err, const 
   return true;
 }
 
+// A GLB's bytes with its JSON chunk replaced by `json` (padded with spaces to 4 bytes, as
+// the GLB format asks); the chunks after it are kept. `bytes` passed glb_json_chunk.
+std::vector<unsigned char> glb_with_json(std::span<const unsigned char> bytes, const std::string& json) {
+  auto u32 = [&](std::size_t at) {
+    return std::uint32_t(bytes[at]) | std::uint32_t(bytes[at + 1]) << 8 | std::uint32_t(bytes[at + 2]) << 16 |
+           std::uint32_t(bytes[at + 3]) << 24;
+  };
+  const std::size_t total = u32(8), rest = 20 + std::size_t(u32(12));
+  std::string padded = json;
+  while (padded.size() % 4 != 0) padded += ' ';
+  std::vector<unsigned char> out(bytes.begin(), bytes.begin() + 12);
+  auto put32 = [&](std::size_t value) {
+    for (int k = 0; k < 4; ++k) out.push_back(static_cast<unsigned char>(value >> (8 * k)));
+  };
+  put32(padded.size());
+  out.insert(out.end(), bytes.begin() + 16, bytes.begin() + 20);  // the chunk type, JSON
+  out.insert(out.end(), padded.begin(), padded.end());
+  out.insert(out.end(), bytes.begin() + std::ptrdiff_t(rest), bytes.begin() + std::ptrdiff_t(total));
+  const std::size_t length = out.size();
+  for (int k = 0; k < 4; ++k) out[8 + std::size_t(k)] = static_cast<unsigned char>(length >> (8 * k));
+  return out;
+}
+
 tinygltf::Model load_model(std::span<const unsigned char> bytes, const std::filesystem::path& path,
                            const std::string& file) {
   if (bytes.empty()) throw SceneError(file, "empty file");
@@ -104,6 +129,17 @@ tinygltf::Model load_model(std::span<const unsigned char> bytes, const std::file
                                          ? gltf::glb_json_chunk(file, bytes)
                                          : std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   gltf::check_gltf_json(file, json_text);
+  // What tinygltf reads: the file, or a copy whose JSON spares tinygltf a part it cannot
+  // take (json_without_draco_indices).
+  std::vector<unsigned char> rewritten;
+  if (const std::optional<std::string> changed = gltf::json_without_draco_indices(json_text)) {
+    if (binary) {
+      rewritten = glb_with_json(bytes, *changed);
+    } else {
+      rewritten.assign(changed->begin(), changed->end());
+    }
+    bytes = rewritten;
+  }
 
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(keep_encoded_image, nullptr);
@@ -218,6 +254,26 @@ void add_light(const ModelRef& m, int node, const glm::dmat4& world, Scene& scen
   scene.lights.push_back(out);
 }
 
+// The morph weights (node.weights, else mesh.weights; none when all are 0) and skin of
+// node `index`, which has a mesh. `worlds` is filled on first use.
+gltf::MeshPose mesh_pose(const ModelRef& m, int index, std::vector<glm::dmat4>& worlds) {
+  const tinygltf::Node& node = m.model.nodes[std::size_t(index)];
+  gltf::MeshPose pose;
+  const std::vector<double>& weights =
+      !node.weights.empty() || std::size_t(node.mesh) >= m.model.meshes.size() ? node.weights
+                                                                              : m.model.meshes[std::size_t(node.mesh)].weights;
+  for (double w : weights) {
+    if (!std::isfinite(w))
+      throw SceneError(m.file, "node " + std::to_string(index) + ": non-finite morph target weight");
+    if (w != 0.0) pose.morph_weights = weights;
+  }
+  if (node.skin >= 0) {
+    if (worlds.empty()) worlds = gltf::node_worlds(m);
+    pose.joints = gltf::joint_matrices(m, node.skin, worlds);
+  }
+  return pose;
+}
+
 Scene scene_from_model(const tinygltf::Model& model, const std::string& file) {
   const ModelRef m{model, file};
   // A required extension Lancer lacks was refused already (check_gltf_json); one the file
@@ -233,15 +289,17 @@ Scene scene_from_model(const tinygltf::Model& model, const std::string& file) {
 
   SceneBuilder builder(scene, file);
   gltf::PrimitiveEmitter emitter(m, scene, builder);
+  std::vector<glm::dmat4> worlds;  // of every node, for skins' joints (computed once, if needed)
   for (const gltf::NodeInstance& inst : gltf::scene_nodes(m)) {
     const tinygltf::Node& node = model.nodes[std::size_t(inst.node)];
     if (node.mesh >= 0) {
+      const gltf::MeshPose pose = mesh_pose(m, inst.node, worlds);
       // Each instance is a copy of the mesh (there is no two-level acceleration structure
       // yet): instance_transforms bounds the copies' triangles before any is made.
       const std::vector<glm::dmat4> instances =
           gltf::instance_transforms(m, inst.node, emitter.triangle_bound(node.mesh));
-      if (instances.empty()) emitter.emit_mesh(node.mesh, inst.world);
-      for (const glm::dmat4& instance : instances) emitter.emit_mesh(node.mesh, inst.world * instance);
+      if (instances.empty()) emitter.emit_mesh(node.mesh, inst.world, pose);
+      for (const glm::dmat4& instance : instances) emitter.emit_mesh(node.mesh, inst.world * instance, pose);
     }
     if (node.camera >= 0) add_camera(m, inst.node, node.camera, inst.world, scene);
     add_light(m, inst.node, inst.world, scene);

@@ -8,14 +8,6 @@
 
 namespace lancer {
 
-namespace {
-// Surfaces crossed by one ray at most. Each crossing moves past a triangle that cannot be
-// hit again, so a ray ends anyway; the bound only keeps a pathological stack of
-// cut-outs from costing more than this many traces per ray. Beyond it the ray counts as
-// blocked (shadows) or stops at the surface it reached (skip_uncovered).
-constexpr int kMaxCrossings = 1024;
-}  // namespace
-
 bool scene_has_coverage(const Scene& scene) {
   for (const Material& m : scene.materials)
     if (m.alpha_mode != AlphaMode::Opaque) return true;

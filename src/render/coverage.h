@@ -24,6 +24,12 @@
 
 namespace lancer {
 
+// Surfaces crossed by one ray at most. Each crossing moves past a triangle that cannot be
+// hit again, so a ray ends anyway; the bound only keeps a pathological stack of cut-outs
+// from costing more than this many traces (or recursion levels) per ray. Beyond it a
+// shadow ray counts as blocked and other rays stop at the surface they reached.
+inline constexpr int kMaxCrossings = 1024;
+
 // Whether any material of `scene` is MASK or BLEND.
 bool scene_has_coverage(const Scene& scene);
 

@@ -46,15 +46,13 @@ glm::vec3 debug_radiance_from_hit(IntegratorKind kind, const Scene& scene, const
 }
 
 glm::vec3 ambient_occlusion(const Scene& scene, const Accelerator& accel, const Ray& ray, const Hit& hit,
-                            SobolSampler& sampler, std::uint64_t& rays) {
+                            bool has_coverage, SobolSampler& sampler, std::uint64_t& rays) {
   if (!hit.valid()) return glm::vec3(0.0f);
   const ShadingInputs si = evaluate_shading(scene, ray, hit);
   const glm::vec3 e = scene.bounds().extent();
   const float reach = kAoRadius * std::sqrt(glm::dot(e, e));
   const ShadingFrame frame = ShadingFrame::from_normal(si.ng);
   const glm::vec3 origin = offset_ray_origin(si.p, si.ng);
-  // The probes see through surfaces as far as their coverage lets them (render/coverage.h).
-  const bool has_coverage = scene_has_coverage(scene);
   float open = 0.0f;
   for (int k = 0; k < kAoRays; ++k) {
     // Cosine-weighted (Malley's method: uniform on the disk, lifted to the hemisphere).

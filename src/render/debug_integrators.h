@@ -36,8 +36,10 @@ glm::vec3 debug_radiance(IntegratorKind kind, const Scene& scene, const Accelera
 // accel.intersect(ray). Traces nothing, so there is no ray count to add to.
 glm::vec3 debug_radiance_from_hit(IntegratorKind kind, const Scene& scene, const Ray& ray, const Hit& hit);
 
-// The ao view at a camera ray's hit; `rays` counts the occlusion rays traced.
+// The ao view at a camera ray's hit; `rays` counts the occlusion rays traced. With
+// `has_coverage` (scene_has_coverage, render/coverage.h) the probes see through surfaces
+// as far as their coverage lets them.
 glm::vec3 ambient_occlusion(const Scene& scene, const Accelerator& accel, const Ray& ray, const Hit& hit,
-                            SobolSampler& sampler, std::uint64_t& rays);
+                            bool has_coverage, SobolSampler& sampler, std::uint64_t& rays);
 
 }  // namespace lancer

@@ -99,7 +99,8 @@ void PathIntegrator::radiance_block(const Ray* rays, const Hit* hits, SobolSampl
     }
     // Every ray's origin, in one batch: its bound evaluated for several rays per vector.
     solve_origins_of_bounce(scratch);
-    // The shadow rays: each unoccluded one adds its light, in the order each path queued them.
+    // The shadow rays: each adds its light times what it lets through (1 unoccluded, 0
+    // blocked, else the coverage's transmittance), in the order each path queued them.
     trace_shadows(scratch);
     for (std::size_t k = 0; k < scratch.shadows.size(); ++k) {
       const Scratch::Shadow& shadow = scratch.shadows[k];

@@ -114,7 +114,7 @@ struct PathIntegrator::Scratch {
   struct Shadow {
     Ray ray;  // made from `aim` once the bounce's origins are solved
     ShadowAim aim;
-    glm::vec3 contribution;  // added to the path's L if the ray is unoccluded
+    glm::vec3 contribution;  // added to the path's L times the light the ray lets through
     int path;
     std::uint32_t leaf;  // the hit it leaves, in `leaves`
   };

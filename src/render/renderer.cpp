@@ -98,7 +98,9 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
       if (see_through && settings.integrator != IntegratorKind::Whitted) skip_uncovered(scene, accel, ray, hit, rays);
       switch (settings.integrator) {
         case IntegratorKind::Whitted: L[i] = whitted->radiance_from_hit(ray, hit, primary.sampler(i), rays); break;
-        case IntegratorKind::Ao: L[i] = ambient_occlusion(scene, accel, ray, hit, primary.sampler(i), rays); break;
+        case IntegratorKind::Ao:
+          L[i] = ambient_occlusion(scene, accel, ray, hit, see_through, primary.sampler(i), rays);
+          break;
         default: L[i] = debug_radiance_from_hit(settings.integrator, scene, ray, hit);
       }
     }

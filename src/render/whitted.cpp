@@ -58,14 +58,23 @@ glm::vec3 WhittedIntegrator::trace(const Ray& ray, int depth, SobolSampler& samp
 
 glm::vec3 WhittedIntegrator::shade(const Ray& ray, const Hit& hit, int depth, SobolSampler& sampler,
                                    std::uint64_t& rays) const {
-  if (!hit.valid()) return glm::vec3(0.0f);  // no environment yet
-  const ShadingInputs si = evaluate_shading(scene_, ray, hit);
-  if (!(si.alpha < 1.0f)) return shade_surface(si, ray, depth, sampler, rays);
-  ++rays;
-  const Ray past = continue_past(scene_, ray, hit);
-  const glm::vec3 behind = shade(past, accel_.intersect(past), depth, sampler, rays);
-  if (!(si.alpha > 0.0f)) return behind;
-  return si.alpha * shade_surface(si, ray, depth, sampler, rays) + (1.0f - si.alpha) * behind;
+  // Along the ray through partly covering surfaces, a loop (not a recursion: a stack of
+  // cut-outs must not grow the call stack), each surface adding its share.
+  glm::vec3 L(0.0f);
+  float behind = 1.0f;  // the fraction of the ray not yet covered
+  Ray r = ray;
+  Hit h = hit;
+  for (int crossed = 0; h.valid(); ++crossed) {  // no environment yet: a miss adds nothing
+    const ShadingInputs si = evaluate_shading(scene_, r, h);
+    if (!(si.alpha < 1.0f) || crossed + 1 >= kMaxCrossings)
+      return L + behind * shade_surface(si, r, depth, sampler, rays);
+    if (si.alpha > 0.0f) L += (behind * si.alpha) * shade_surface(si, r, depth, sampler, rays);
+    behind *= 1.0f - si.alpha;
+    r = continue_past(scene_, r, h);
+    ++rays;
+    h = accel_.intersect(r);
+  }
+  return L;
 }
 
 glm::vec3 WhittedIntegrator::shade_surface(const ShadingInputs& si, const Ray& ray, int depth, SobolSampler& sampler,

@@ -3,6 +3,7 @@
 #include <tiny_gltf.h>
 
 #include <algorithm>
+#include <climits>
 #include <cmath>
 #include <cstring>
 
@@ -170,7 +171,6 @@ std::uint32_t read_unsigned(const unsigned char* p, int component_type) {
   }
 }
 
-// glTF 2.0 spec, "Animations" / "Meshes": normalized unsigned integers map c to c / max.
 // One component as a float: integers as they are, or mapped to [0, 1] (unsigned) or
 // [-1, 1] (signed, max(c / max, -1)) when normalized (glTF 2.0, "Animations" and
 // KHR_mesh_quantization give the same rules).
@@ -273,6 +273,12 @@ bool index_types(int component_type, bool normalized) {
 }
 
 }  // namespace
+
+int json_index(const tinygltf::Value& v) {
+  if (!v.IsInt() && !v.IsNumber()) return -1;
+  const double d = v.GetNumberAsDouble();
+  return d >= 0.0 && d <= double(INT_MAX) && d == std::floor(d) ? int(d) : -1;
+}
 
 ByteSpan buffer_view_bytes(const ModelRef& m, int view, const std::string& what) {
   const auto& views = m.model.bufferViews;

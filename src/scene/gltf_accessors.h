@@ -15,6 +15,7 @@
 
 namespace tinygltf {
 class Model;
+class Value;
 }
 
 namespace lancer::gltf {
@@ -60,6 +61,10 @@ std::vector<glm::mat4> read_mat4_floats(const ModelRef& m, int accessor, const s
 std::vector<glm::vec4> read_colors(const ModelRef& m, int accessor, const std::string& what);
 // SCALAR of UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT.
 std::vector<std::uint32_t> read_indices(const ModelRef& m, int accessor, const std::string& what);
+
+// An extension's JSON value that must be an index: an integer in [0, INT_MAX], else -1
+// (never an out-of-range conversion of a huge or fractional number).
+int json_index(const tinygltf::Value& v);
 
 // The bytes [offset, offset + length) of bufferView `view`, checked to lie in its buffer.
 struct ByteSpan {

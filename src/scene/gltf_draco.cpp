@@ -18,13 +18,14 @@ std::optional<DracoPrimitive> decode_draco(const ModelRef& m, const tinygltf::Pr
   if (ext == prim.extensions.end()) return std::nullopt;
   const std::string name = what + " KHR_draco_mesh_compression";
   const tinygltf::Value& e = ext->second;
-  if (!e.IsObject() || !e.Has("bufferView") || !(e.Get("bufferView").IsInt() || e.Get("bufferView").IsNumber()) ||
-      !e.Has("attributes") || !e.Get("attributes").IsObject())
+  if (!e.IsObject() || !e.Has("bufferView") || json_index(e.Get("bufferView")) < 0 || !e.Has("attributes") ||
+      !e.Get("attributes").IsObject())
     throw SceneError(m.file, name + " must be an object with a 'bufferView' index and an 'attributes' object");
-  if (prim.mode != TINYGLTF_MODE_TRIANGLES)
-    throw SceneError(m.file, name + ": only TRIANGLES primitives can be Draco-compressed (mode " +
+  // The extension allows TRIANGLES and TRIANGLE_STRIP; either decodes to triangles.
+  if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != TINYGLTF_MODE_TRIANGLE_STRIP)
+    throw SceneError(m.file, name + ": only TRIANGLES and TRIANGLE_STRIP primitives can be Draco-compressed (mode " +
                                  std::to_string(prim.mode) + ")");
-  const ByteSpan bytes = buffer_view_bytes(m, e.Get("bufferView").GetNumberAsInt(), name);
+  const ByteSpan bytes = buffer_view_bytes(m, json_index(e.Get("bufferView")), name);
 
   draco_io::Mesh mesh;
   std::string error;
@@ -37,13 +38,13 @@ std::optional<DracoPrimitive> decode_draco(const ModelRef& m, const tinygltf::Pr
   const tinygltf::Value& attributes = e.Get("attributes");
   for (const std::string& semantic : attributes.Keys()) {
     const tinygltf::Value& id = attributes.Get(semantic);
-    if (!(id.IsInt() || id.IsNumber()) || id.GetNumberAsInt() < 0)
-      throw SceneError(m.file, name + " attribute " + semantic + " must be a Draco attribute id");
+    const int unique_id = json_index(id);
+    if (unique_id < 0) throw SceneError(m.file, name + " attribute " + semantic + " must be a Draco attribute id");
     const draco_io::Attribute* att = nullptr;
     for (const draco_io::Attribute& a : mesh.attributes)
-      if (a.unique_id == std::uint32_t(id.GetNumberAsInt())) att = &a;
-    if (!att) throw SceneError(m.file, name + " attribute " + semantic + ": no Draco attribute has id " +
-                                          std::to_string(id.GetNumberAsInt()));
+      if (a.unique_id == std::uint32_t(unique_id)) att = &a;
+    if (!att)
+      throw SceneError(m.file, name + " attribute " + semantic + ": no Draco attribute has id " + std::to_string(unique_id));
     // The accessor describes the decoded data: its count, and whether integers are normalized.
     const auto accessor = prim.attributes.find(semantic);
     bool normalized = false;

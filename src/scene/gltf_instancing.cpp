@@ -18,10 +18,10 @@ bool finite(const glm::dvec4& v) { return std::isfinite(v.x + v.y + v.z + v.w); 
 
 }  // namespace
 
-std::vector<glm::dmat4> instance_transforms(const ModelRef& m, int node, std::size_t mesh_triangles) {
+std::optional<std::vector<glm::dmat4>> instance_transforms(const ModelRef& m, int node, std::size_t mesh_triangles) {
   const tinygltf::Node& n = m.model.nodes[std::size_t(node)];
   const auto ext = n.extensions.find("EXT_mesh_gpu_instancing");
-  if (ext == n.extensions.end()) return {};
+  if (ext == n.extensions.end()) return std::nullopt;
   const std::string what = "node " + std::to_string(node) + " EXT_mesh_gpu_instancing";
   if (!ext->second.IsObject() || !ext->second.Has("attributes") || !ext->second.Get("attributes").IsObject())
     throw SceneError(m.file, what + " must be an object with an 'attributes' object");
@@ -29,9 +29,8 @@ std::vector<glm::dmat4> instance_transforms(const ModelRef& m, int node, std::si
   auto accessor_of = [&](const char* key) {
     if (!attributes.Has(key)) return -1;
     const tinygltf::Value& v = attributes.Get(key);
-    if (!v.IsInt() && !v.IsNumber()) throw SceneError(m.file, what + " " + key + " must be an accessor index");
-    const int index = v.GetNumberAsInt();
-    if (index < 0) throw SceneError(m.file, what + " " + key + ": accessor index " + std::to_string(index) + " out of range");
+    const int index = json_index(v);
+    if (index < 0) throw SceneError(m.file, what + " " + key + " must be an accessor index");
     return index;
   };
   const int t = accessor_of("TRANSLATION"), r = accessor_of("ROTATION"), s = accessor_of("SCALE");
@@ -39,9 +38,10 @@ std::vector<glm::dmat4> instance_transforms(const ModelRef& m, int node, std::si
     throw SceneError(m.file, what + " has none of TRANSLATION, ROTATION and SCALE");
   std::vector<glm::vec3> translations, scales;
   std::vector<glm::vec4> rotations;
-  if (t >= 0) translations = read_vec3_floats(m, t, what + " TRANSLATION");
+  // With KHR_mesh_quantization, TRANSLATION and SCALE may be integers as POSITION may.
+  if (t >= 0) translations = read_positions(m, t, what + " TRANSLATION");
   if (r >= 0) rotations = read_rotations(m, r, what + " ROTATION");
-  if (s >= 0) scales = read_vec3_floats(m, s, what + " SCALE");
+  if (s >= 0) scales = read_positions(m, s, what + " SCALE");
   const std::size_t count = t >= 0 ? translations.size() : r >= 0 ? rotations.size() : scales.size();
   auto check_count = [&](std::size_t size, int accessor, const char* key) {
     if (accessor >= 0 && size != count)
@@ -50,6 +50,9 @@ std::vector<glm::dmat4> instance_transforms(const ModelRef& m, int node, std::si
   };
   check_count(rotations.size(), r, "ROTATION");
   check_count(scales.size(), s, "SCALE");
+  if (count > kMaxInstances)
+    throw SceneError(m.file, what + ": " + std::to_string(count) + " instances exceed the limit of " +
+                                 std::to_string(kMaxInstances));
   if (mesh_triangles > 0 && count > kMaxInstancedTriangles / mesh_triangles)
     throw SceneError(m.file, what + ": " + std::to_string(count) + " instances of a mesh of up to " +
                                  std::to_string(mesh_triangles) + " triangles exceed the limit of " +
@@ -77,7 +80,7 @@ std::vector<glm::dmat4> instance_transforms(const ModelRef& m, int node, std::si
     }
     out.push_back(transform);
   }
-  return out;
+  return std::optional<std::vector<glm::dmat4>>(std::move(out));
 }
 
 }  // namespace lancer::gltf

@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <glm/geometric.hpp>
 #include <glm/mat3x3.hpp>
+#include <glm/vector_relational.hpp>
 #include <type_traits>
 #include <utility>
 
@@ -95,7 +96,13 @@ void apply_skin(const ModelRef& m, const tinygltf::Primitive& prim, const DracoP
     if (draco) {
       if (const std::vector<glm::vec4>* d = draco->find(j_name)) {
         joint_sets.back().assign(d->size(), glm::uvec4(0));
-        for (std::size_t k = 0; k < d->size(); ++k) joint_sets.back()[k] = glm::uvec4(glm::max((*d)[k], glm::vec4(0.0f)));
+        for (std::size_t k = 0; k < d->size(); ++k) {
+          const glm::vec4 index = (*d)[k];
+          if (!(glm::all(glm::greaterThanEqual(index, glm::vec4(0.0f))) &&
+                glm::all(glm::lessThanEqual(index, glm::vec4(65535.0f)))))
+            throw SceneError(m.file, what + " " + j_name + " (Draco) holds a joint index outside 0..65535");
+          joint_sets.back()[k] = glm::uvec4(index);
+        }
       }
       if (const std::vector<glm::vec4>* d = draco->find(w_name)) weight_sets.back() = *d;
     }
@@ -250,11 +257,27 @@ void PrimitiveEmitter::emit_mesh(int mesh, const glm::dmat4& world, const MeshPo
   for (std::size_t p = 0; p < count; ++p) emit_primitive(mesh, int(p), world, pose);
 }
 
-std::size_t PrimitiveEmitter::triangle_bound(int mesh) const {
+const DracoPrimitive* PrimitiveEmitter::draco(int mesh, int primitive, const std::string& what) {
+  auto [it, added] = draco_.try_emplace({mesh, primitive});
+  if (added)
+    it->second = decode_draco(m_, m_.model.meshes[std::size_t(mesh)].primitives[std::size_t(primitive)], what);
+  return it->second ? &*it->second : nullptr;
+}
+
+std::size_t PrimitiveEmitter::triangle_bound(int mesh) {
   if (mesh < 0 || std::size_t(mesh) >= m_.model.meshes.size()) return 0;
   const auto& accessors = m_.model.accessors;
   std::size_t bound = 0;
-  for (const tinygltf::Primitive& prim : m_.model.meshes[std::size_t(mesh)].primitives) {
+  const auto& primitives = m_.model.meshes[std::size_t(mesh)].primitives;
+  for (std::size_t p = 0; p < primitives.size(); ++p) {
+    const tinygltf::Primitive& prim = primitives[p];
+    // A Draco primitive's faces are known only decoded (its "indices" was dropped, and its
+    // points say nothing of how many faces use them).
+    const std::string what = "mesh " + std::to_string(mesh) + " primitive " + std::to_string(p);
+    if (const DracoPrimitive* d = draco(mesh, int(p), what)) {
+      bound += d->indices.size() / 3;
+      continue;
+    }
     int counted = prim.indices;
     if (counted < 0) {
       const auto position = prim.attributes.find("POSITION");
@@ -299,8 +322,7 @@ void PrimitiveEmitter::emit_primitive(int mesh, int primitive, const glm::dmat4&
   const std::uint32_t material = material_id(prim.material, what);
 
   const bool wants_texcoords1 = scene_.materials[material].uses_texcoord(1);
-  const std::optional<DracoPrimitive> draco = decode_draco(m_, prim, what);
-  const DracoPrimitive* compressed = draco ? &*draco : nullptr;
+  const DracoPrimitive* compressed = draco(mesh, primitive, what);
   const WorldVertices v = world_vertices(m_, prim, compressed, world, pose, wants_texcoords1, what);
   if (wants_texcoords1 && v.texcoords1.empty() && !warned_missing_texcoords1_) {
     // GPU viewers read a missing attribute as 0; so does Lancer (kHasTexcoords1 unset).
@@ -309,8 +331,10 @@ void PrimitiveEmitter::emit_primitive(int mesh, int primitive, const glm::dmat4&
   }
   const std::vector<std::uint32_t> numbers = vertex_numbers(m_, prim, compressed, v.positions.size(), what);
   const std::size_t n = numbers.size();
+  // Draco hands back triangles whatever the primitive's mode (TRIANGLES or a strip).
+  const int layout = compressed ? TINYGLTF_MODE_TRIANGLES : mode;
   std::size_t triangles = 0;
-  if (mode == TINYGLTF_MODE_TRIANGLES) {
+  if (layout == TINYGLTF_MODE_TRIANGLES) {
     if (n % 3 != 0)
       throw SceneError(m_.file,
                        what + ": TRIANGLES primitive has " + std::to_string(n) + " vertices, not a multiple of 3");
@@ -326,7 +350,7 @@ void PrimitiveEmitter::emit_primitive(int mesh, int primitive, const glm::dmat4&
   const bool mirrored = glm::determinant(glm::dmat3(world)) < 0.0;
   builder_.reserve_more(triangles);  // counted from indices already read and checked
   for (std::size_t t = 0; t < triangles; ++t) {
-    std::array<std::size_t, 3> c = triangle_corners(mode, t);
+    std::array<std::size_t, 3> c = triangle_corners(layout, t);
     if (v.mirrored.empty() ? mirrored : v.mirrored[numbers[c[0]]] != 0) std::swap(c[1], c[2]);
     glm::vec3 p[3], nrm[3];
     glm::vec2 uv[3], uv1[3];

@@ -3,10 +3,13 @@
 
 #include <cstdint>
 #include <glm/mat4x4.hpp>
+#include <map>
 #include <optional>
+#include <utility>
 #include <vector>
 
 #include "scene/gltf_accessors.h"
+#include "scene/gltf_draco.h"
 #include "scene/scene_builder.h"
 
 namespace lancer::gltf {
@@ -36,18 +39,23 @@ class PrimitiveEmitter {
   void emit_mesh(int mesh, const glm::dmat4& world, const MeshPose& pose = {});
 
   // At least the number of triangles emit_mesh(mesh) makes (the index or vertex counts of
-  // its primitives), without reading their data; 0 for a mesh index out of range.
-  std::size_t triangle_bound(int mesh) const;
+  // its primitives, the decoded faces of Draco ones), without reading other data; 0 for a
+  // mesh index out of range.
+  std::size_t triangle_bound(int mesh);
 
  private:
   void emit_primitive(int mesh, int primitive, const glm::dmat4& world, const MeshPose& pose);
   std::uint32_t material_id(int material, const std::string& what);
+  // The primitive's Draco data, decoded once however many nodes and instances draw it;
+  // null when it is not compressed.
+  const DracoPrimitive* draco(int mesh, int primitive, const std::string& what);
 
   const ModelRef& m_;
   Scene& scene_;
   SceneBuilder& builder_;
   std::uint32_t next_source_id_ = 0;
   std::optional<std::uint32_t> default_material_;
+  std::map<std::pair<int, int>, std::optional<DracoPrimitive>> draco_;
   bool warned_non_triangles_ = false;
   bool warned_missing_texcoords1_ = false;
 };

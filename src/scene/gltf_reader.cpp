@@ -94,7 +94,8 @@ bool read_regular_file(std::vector<unsigned char>* out, std::string* err, const 
 
 // A GLB's bytes with its JSON chunk replaced by `json` (padded with spaces to 4 bytes, as
 // the GLB format asks); the chunks after it are kept. `bytes` passed glb_json_chunk.
-std::vector<unsigned char> glb_with_json(std::span<const unsigned char> bytes, const std::string& json) {
+std::vector<unsigned char> glb_with_json(std::span<const unsigned char> bytes, const std::string& json,
+                                         const std::string& file) {
   auto u32 = [&](std::size_t at) {
     return std::uint32_t(bytes[at]) | std::uint32_t(bytes[at + 1]) << 8 | std::uint32_t(bytes[at + 2]) << 16 |
            std::uint32_t(bytes[at + 3]) << 24;
@@ -102,6 +103,9 @@ std::vector<unsigned char> glb_with_json(std::span<const unsigned char> bytes, c
   const std::size_t total = u32(8), rest = 20 + std::size_t(u32(12));
   std::string padded = json;
   while (padded.size() % 4 != 0) padded += ' ';
+  // The rewritten JSON may be longer than the file's (numbers are written out again).
+  if (padded.size() + (total - rest) + 20 > std::size_t(UINT32_MAX))
+    throw SceneError(file, "binary glTF too large once its JSON is rewritten for the Draco primitives");
   std::vector<unsigned char> out(bytes.begin(), bytes.begin() + 12);
   auto put32 = [&](std::size_t value) {
     for (int k = 0; k < 4; ++k) out.push_back(static_cast<unsigned char>(value >> (8 * k)));
@@ -134,7 +138,7 @@ tinygltf::Model load_model(std::span<const unsigned char> bytes, const std::file
   std::vector<unsigned char> rewritten;
   if (const std::optional<std::string> changed = gltf::json_without_draco_indices(json_text)) {
     if (binary) {
-      rewritten = glb_with_json(bytes, *changed);
+      rewritten = glb_with_json(bytes, *changed, file);
     } else {
       rewritten.assign(changed->begin(), changed->end());
     }
@@ -296,10 +300,11 @@ Scene scene_from_model(const tinygltf::Model& model, const std::string& file) {
       const gltf::MeshPose pose = mesh_pose(m, inst.node, worlds);
       // Each instance is a copy of the mesh (there is no two-level acceleration structure
       // yet): instance_transforms bounds the copies' triangles before any is made.
-      const std::vector<glm::dmat4> instances =
+      const std::optional<std::vector<glm::dmat4>> instances =
           gltf::instance_transforms(m, inst.node, emitter.triangle_bound(node.mesh));
-      if (instances.empty()) emitter.emit_mesh(node.mesh, inst.world, pose);
-      for (const glm::dmat4& instance : instances) emitter.emit_mesh(node.mesh, inst.world * instance, pose);
+      if (!instances) emitter.emit_mesh(node.mesh, inst.world, pose);
+      if (instances)
+        for (const glm::dmat4& instance : *instances) emitter.emit_mesh(node.mesh, inst.world * instance, pose);
     }
     if (node.camera >= 0) add_camera(m, inst.node, node.camera, inst.world, scene);
     add_light(m, inst.node, inst.world, scene);

@@ -8,7 +8,8 @@
 //  - an emissive BLEND quad lights a floor with alpha times its radiance (light samples and
 //    BSDF samples that hit it, combined by MIS, must agree);
 //  - passing a surface is not a bounce, and the MIS weight of an emitter seen through
-//    surfaces passed on the way measures the whole distance from the last bounce.
+//    surfaces passed on the way measures the whole distance from the last bounce;
+//  - 300 stacked cut-outs hide nothing (Whitted walks through them in a loop).
 #include "render/coverage.h"
 
 #include <cmath>
@@ -121,6 +122,22 @@ TEST(Coverage, MaskCutOutShowsTheWallBehind) {
   // OPAQUE ignores alpha: the square everywhere.
   const ImageRGB opaque = render(masked_square_before_a_wall(AlphaMode::Opaque), kSquareCamera, IntegratorKind::Path, 1);
   EXPECT_EQ(columns_mean(opaque, 0, 16), glm::dvec3(0, 1, 0));
+}
+
+TEST(Coverage, ThreeHundredStackedCutOutsHideNothing) {
+  // An emitter behind 300 fully cut-out squares: both integrators see it (Whitted goes
+  // through them in a loop, not a recursion 300 deep).
+  Scene scene;
+  test::add_square_z(scene, 0, 0, -1, 10.0f, true, add_material(scene, emitter({1, 1, 1})));
+  Material hole = test::diffuse_material(glm::vec3(0.5f));
+  hole.base_color.a = 0.0f;
+  hole.alpha_mode = AlphaMode::Mask;
+  const std::uint32_t m = add_material(scene, hole);
+  for (int k = 0; k < 300; ++k) test::add_square_z(scene, 0, 0, 0.001f * float(k), 10.0f, true, m);
+  for (IntegratorKind kind : {IntegratorKind::Path, IntegratorKind::Whitted}) {
+    const ImageRGB image = render(scene, kSquareCamera, kind, 1);
+    EXPECT_EQ(columns_mean(image, 0, 16), glm::dvec3(1.0)) << integrator_name(kind);
+  }
 }
 
 TEST(Coverage, DebugViewsSeeThroughCutOuts) {

@@ -70,6 +70,25 @@ TEST_F(GltfDracoRender, CompressedCopyGivesTheSameImage) {
   EXPECT_LT(test::largest_block_difference(render_lit_mesh(path("draco.glb")), reference, 8), 1e-4);
 }
 
+TEST_F(GltfDracoRender, InstancesAreBoundedByTheDecodedFaces) {
+  // 20,000 instances of the sphere: below the instanced-triangle limit counted by its
+  // points (about 1,200 each), far above it by its 2,304 faces. The faces count.
+  const Mesh mesh = lumpy_sphere();
+  GltfBuilder b = draco_copy(mesh);
+  const int zeros = b.push("accessors", {{"componentType", GltfBuilder::kFloat}, {"count", 20000}, {"type", "VEC3"}});
+  b.doc["nodes"][0]["extensions"] = {{"EXT_mesh_gpu_instancing", {{"attributes", {{"TRANSLATION", zeros}}}}}};
+  b.doc["extensionsUsed"].push_back("EXT_mesh_gpu_instancing");
+  b.write_data_uri_gltf(path("many.gltf"));
+  try {
+    const Scene s = read_gltf(path("many.gltf"));
+    ADD_FAILURE() << "made " << s.triangle_count() << " instanced triangles";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("20000 instances of a mesh of up to 2304 triangles exceed the limit"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
 TEST_F(GltfDracoRender, DataThatDoesNotDecodeIsRefused) {
   GltfBuilder b = draco_copy(lumpy_sphere());
   for (std::size_t k = 0; k < b.bin.size(); k += 7) b.bin[k] = static_cast<unsigned char>(b.bin[k] ^ 0x5A);

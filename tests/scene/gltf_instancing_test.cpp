@@ -114,6 +114,11 @@ TEST_F(GltfInstancing, MalformedInstancingIsRefused) {
     expect_error(b, "accessor index 99 out of range");
   }
   {
+    GltfBuilder b = instanced_grid();
+    b.doc["nodes"][0]["extensions"]["EXT_mesh_gpu_instancing"]["attributes"]["TRANSLATION"] = 1e300;
+    expect_error(b, "TRANSLATION must be an accessor index");
+  }
+  {
     // 2^21 instances of a 12-triangle box: more triangles than copies are allowed to make.
     GltfBuilder b = instanced_grid();
     json accessor = {{"componentType", GltfBuilder::kFloat}, {"count", 1 << 21}, {"type", "VEC3"}};

@@ -6,6 +6,7 @@
 #include <optional>
 #include <set>
 #include <string_view>
+#include <system_error>
 
 #include <glm/geometric.hpp>
 
@@ -106,7 +107,10 @@ std::vector<SuiteScene> default_suite(const fs::path& scenes_dir, const fs::path
     suite.push_back(spd_entry(c.name, c.size));
     taken.insert(suite.back().name);
   }
-  if (models_dir.empty()) return suite;
+  // The shared meshes are optional: a folder that is not there adds nothing (lancer-bench
+  // refuses a --models folder that does not exist before this).
+  std::error_code absent;
+  if (models_dir.empty() || !fs::is_directory(models_dir, absent)) return suite;
   std::vector<fs::path> files;
   for (const fs::directory_entry& e : fs::directory_iterator(models_dir))
     if (e.is_regular_file() && is_mesh_file(e.path())) files.push_back(e.path());

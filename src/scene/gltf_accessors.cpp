@@ -300,14 +300,6 @@ ByteSpan buffer_view_bytes(const ModelRef& m, int view, const std::string& what)
   return {data.data() + bv.byteOffset, bv.byteLength};
 }
 
-std::vector<glm::vec3> read_vec3_floats(const ModelRef& m, int accessor, const std::string& what) {
-  return read_float_vectors<3>(m, accessor, what, {TINYGLTF_TYPE_VEC3, 3, "VEC3 of FLOAT", float_only});
-}
-
-std::vector<glm::vec4> read_vec4_floats(const ModelRef& m, int accessor, const std::string& what) {
-  return read_float_vectors<4>(m, accessor, what, {TINYGLTF_TYPE_VEC4, 4, "VEC4 of FLOAT", float_only});
-}
-
 bool uses_mesh_quantization(const ModelRef& m) {
   for (const std::string& name : m.model.extensionsUsed)
     if (name == "KHR_mesh_quantization") return true;

@@ -33,8 +33,6 @@ inline constexpr std::size_t kMaxZeroFilledElements = std::size_t(1) << 24;
 // `what` names the accessor's use in messages, e.g. "mesh 0 primitive 1 POSITION".
 // Each throws SceneError when the accessor is out of range, of a type the use does not
 // allow, or reaches outside its data.
-std::vector<glm::vec3> read_vec3_floats(const ModelRef& m, int accessor, const std::string& what);  // VEC3 FLOAT
-std::vector<glm::vec4> read_vec4_floats(const ModelRef& m, int accessor, const std::string& what);  // VEC4 FLOAT
 // Mesh attributes. Without KHR_mesh_quantization in extensionsUsed: POSITION and NORMAL
 // VEC3 of FLOAT, TANGENT VEC4 of FLOAT, TEXCOORD_n VEC2 of FLOAT or of normalized
 // UNSIGNED_BYTE / UNSIGNED_SHORT. With it, also what the extension allows: POSITION and

@@ -91,20 +91,20 @@ void apply_skin(const ModelRef& m, const tinygltf::Primitive& prim, const DracoP
     if (j < 0 && w < 0) break;
     if (j < 0 || w < 0)
       throw SceneError(m.file, what + " has " + (j < 0 ? w_name : j_name) + " without " + (j < 0 ? j_name : w_name));
-    joint_sets.push_back(read_joints(m, j, what + " " + j_name));
-    weight_sets.push_back(read_weights(m, w, what + " " + w_name));
-    if (draco) {
-      if (const std::vector<glm::vec4>* d = draco->find(j_name)) {
-        joint_sets.back().assign(d->size(), glm::uvec4(0));
-        for (std::size_t k = 0; k < d->size(); ++k) {
-          const glm::vec4 index = (*d)[k];
-          if (!(glm::all(glm::greaterThanEqual(index, glm::vec4(0.0f))) &&
-                glm::all(glm::lessThanEqual(index, glm::vec4(65535.0f)))))
-            throw SceneError(m.file, what + " " + j_name + " (Draco) holds a joint index outside 0..65535");
-          joint_sets.back()[k] = glm::uvec4(index);
-        }
+    // From the Draco data where it holds them, else from the accessors.
+    const std::vector<glm::vec4>* draco_joints = draco ? draco->find(j_name) : nullptr;
+    const std::vector<glm::vec4>* draco_weights = draco ? draco->find(w_name) : nullptr;
+    joint_sets.push_back(draco_joints ? std::vector<glm::uvec4>{} : read_joints(m, j, what + " " + j_name));
+    weight_sets.push_back(draco_weights ? *draco_weights : read_weights(m, w, what + " " + w_name));
+    if (const std::vector<glm::vec4>* d = draco_joints) {
+      joint_sets.back().assign(d->size(), glm::uvec4(0));
+      for (std::size_t k = 0; k < d->size(); ++k) {
+        const glm::vec4 index = (*d)[k];
+        if (!(glm::all(glm::greaterThanEqual(index, glm::vec4(0.0f))) &&
+              glm::all(glm::lessThanEqual(index, glm::vec4(65535.0f)))))
+          throw SceneError(m.file, what + " " + j_name + " (Draco) holds a joint index outside 0..65535");
+        joint_sets.back()[k] = glm::uvec4(index);
       }
-      if (const std::vector<glm::vec4>* d = draco->find(w_name)) weight_sets.back() = *d;
     }
     if (joint_sets.back().size() != n || weight_sets.back().size() != n)
       throw SceneError(m.file, what + " " + j_name + " or " + w_name + " does not have one element per vertex (" +

@@ -67,17 +67,6 @@ Material black_emitter(float radiance) {
   return m;
 }
 
-// Turns the triangles from `first` on inside out (their front sides face the other way).
-void flip_winding(Scene& scene, std::size_t first) {
-  TriangleSoA& t = scene.triangles;
-  for (std::size_t i = first; i < t.size(); ++i) {
-    std::swap(t.x[1][i], t.x[2][i]);
-    std::swap(t.y[1][i], t.y[2][i]);
-    std::swap(t.z[1][i], t.z[2][i]);
-    std::swap(scene.normals[3 * i + 1], scene.normals[3 * i + 2]);
-    for (glm::vec3* n : {&scene.normals[3 * i], &scene.normals[3 * i + 1], &scene.normals[3 * i + 2]}) *n = -*n;
-  }
-}
 
 TEST(PathTracer, WhiteFurnaceInsideAClosedEmitterIsOneEverywhere) {
   Scene scene;
@@ -86,7 +75,7 @@ TEST(PathTracer, WhiteFurnaceInsideAClosedEmitterIsOneEverywhere) {
   Material wall = lambert(0.5f);
   wall.emissive_factor = glm::vec3(0.5f);  // L = 0.5 + 0.5 L  =>  L = 1
   append_icosphere(scene, {0, 0, 0}, 4.0f, 3, add_material(scene, wall));
-  flip_winding(scene, enclosure);
+  test::flip_winding(scene, enclosure);
   const PinholeCamera cam = PinholeCamera::look_at({0, 0, 3}, {0, 0, 0}, {0, 1, 0}, 1.2f, 24, 24);
   expect_radiance(render_path(scene, cam, 64), 1.0, "furnace");
 }

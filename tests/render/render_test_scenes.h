@@ -2,6 +2,7 @@
 #pragma once
 
 #include <cstdint>
+#include <utility>
 
 #include <glm/vec3.hpp>
 
@@ -74,6 +75,18 @@ inline void add_square_z(Scene& scene, float cx, float cy, float z, float half, 
     append_quad(scene, a, b, c, d, material);
   else
     append_quad(scene, a, d, c, b, material);
+}
+
+// Turns the triangles from `first` on inside out (their front sides face the other way).
+inline void flip_winding(Scene& scene, std::size_t first) {
+  TriangleSoA& t = scene.triangles;
+  for (std::size_t i = first; i < t.size(); ++i) {
+    std::swap(t.x[1][i], t.x[2][i]);
+    std::swap(t.y[1][i], t.y[2][i]);
+    std::swap(t.z[1][i], t.z[2][i]);
+    std::swap(scene.normals[3 * i + 1], scene.normals[3 * i + 2]);
+    for (glm::vec3* n : {&scene.normals[3 * i], &scene.normals[3 * i + 1], &scene.normals[3 * i + 2]}) *n = -*n;
+  }
 }
 
 inline Ray ray_from(const glm::vec3& org, const glm::vec3& dir) {

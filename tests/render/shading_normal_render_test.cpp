@@ -89,14 +89,7 @@ Material black_emitter(float radiance) {
 void add_emitting_enclosure(Scene& scene, float radius) {
   const std::size_t first = scene.triangle_count();
   append_icosphere(scene, {0, 0, 0}, radius, 3, test::add_material(scene, black_emitter(1.0f)));
-  TriangleSoA& t = scene.triangles;
-  for (std::size_t i = first; i < t.size(); ++i) {
-    std::swap(t.x[1][i], t.x[2][i]);
-    std::swap(t.y[1][i], t.y[2][i]);
-    std::swap(t.z[1][i], t.z[2][i]);
-    std::swap(scene.normals[3 * i + 1], scene.normals[3 * i + 2]);
-    for (std::size_t k = 0; k < 3; ++k) scene.normals[3 * i + k] = -scene.normals[3 * i + k];
-  }
+  test::flip_winding(scene, first);
 }
 
 // An 8 x 8 tangent-space normal map, nearest-filtered: column i leans toward azimuth

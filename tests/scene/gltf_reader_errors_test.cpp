@@ -26,25 +26,7 @@ GltfBuilder base_triangle() {
   return b;
 }
 
-class GltfErrors : public gltf_test::GltfTempDir {
- protected:
-  // read_gltf(file) must throw SceneError whose message has the file name and `word`.
-  void expect_error(const std::filesystem::path& file, const std::string& word) {
-    try {
-      const Scene s = read_gltf(file);
-      ADD_FAILURE() << file << " loaded (" << s.triangle_count() << " triangles), expected an error with '" << word
-                    << "'";
-    } catch (const SceneError& e) {
-      const std::string msg = e.what();
-      EXPECT_NE(msg.find(file.string()), std::string::npos) << msg;
-      EXPECT_NE(msg.find(word), std::string::npos) << "expected '" << word << "' in: " << msg;
-    }
-  }
-  void expect_error(const GltfBuilder& b, const std::string& word) {
-    b.write_data_uri_gltf(path("bad.gltf"));
-    expect_error(path("bad.gltf"), word);
-  }
-};
+class GltfErrors : public gltf_test::GltfTempDir {};
 
 TEST_F(GltfErrors, BaseTriangleIsValid) {
   // The mutations below start from this file, so it must load.

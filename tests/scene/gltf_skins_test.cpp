@@ -68,18 +68,6 @@ class GltfSkins : public gltf_test::GltfTempDir {
     b.write_data_uri_gltf(path("file.gltf"));
     return read_gltf(path("file.gltf"));
   }
-  void expect_error(const GltfBuilder& b, const std::string& word) {
-    const auto file = path("bad.gltf");
-    b.write_data_uri_gltf(file);
-    try {
-      const Scene s = read_gltf(file);
-      ADD_FAILURE() << "loaded (" << s.triangle_count() << " triangles), expected an error with '" << word << "'";
-    } catch (const SceneError& e) {
-      const std::string msg = e.what();
-      EXPECT_NE(msg.find(file.string()), std::string::npos) << msg;
-      EXPECT_NE(msg.find(word), std::string::npos) << "expected '" << word << "' in: " << msg;
-    }
-  }
 };
 
 TEST_F(GltfSkins, TwoBoneStripBendsNinetyDegrees) {

@@ -18,6 +18,9 @@
 #include <string>
 #include <vector>
 
+#include "scene/gltf_reader.h"
+#include "scene/scene_error.h"
+
 namespace lancer::gltf_test {
 
 using nlohmann::json;
@@ -213,6 +216,24 @@ class GltfTempDir : public ::testing::Test {
     std::filesystem::remove_all(dir_, ec);
   }
   std::filesystem::path path(const std::string& name) const { return dir_ / name; }
+
+  // read_gltf(file) must throw SceneError whose message has the file name and `word`.
+  void expect_error(const std::filesystem::path& file, const std::string& word) {
+    try {
+      const Scene s = read_gltf(file);
+      ADD_FAILURE() << file << " loaded (" << s.triangle_count() << " triangles), expected an error with '" << word
+                    << "'";
+    } catch (const SceneError& e) {
+      const std::string msg = e.what();
+      EXPECT_NE(msg.find(file.string()), std::string::npos) << msg;
+      EXPECT_NE(msg.find(word), std::string::npos) << "expected '" << word << "' in: " << msg;
+    }
+  }
+  // The same for `b` written as bad.gltf.
+  void expect_error(const GltfBuilder& b, const std::string& word) {
+    b.write_data_uri_gltf(path("bad.gltf"));
+    expect_error(path("bad.gltf"), word);
+  }
 
   std::filesystem::path dir_;
 };

@@ -46,17 +46,6 @@ class GltfTextures : public gltf_test::GltfTempDir {
     b.write_data_uri_gltf(path("t.gltf"));
     return read_gltf(path("t.gltf"));
   }
-  void expect_error(const GltfBuilder& b, const std::string& word) {
-    b.write_data_uri_gltf(path("bad.gltf"));
-    try {
-      const Scene s = read_gltf(path("bad.gltf"));
-      ADD_FAILURE() << "loaded, expected an error with '" << word << "'";
-    } catch (const SceneError& e) {
-      const std::string msg = e.what();
-      EXPECT_NE(msg.find(path("bad.gltf").string()), std::string::npos) << msg;
-      EXPECT_NE(msg.find(word), std::string::npos) << "expected '" << word << "' in: " << msg;
-    }
-  }
 };
 
 json transform(double ox, double oy, double rotation, double sx, double sy) {

@@ -1,6 +1,8 @@
 #include "render/coverage.h"
 
 #include <cmath>
+#include <cstddef>
+#include <vector>
 
 #include "accel/ray_offset.h"
 #include "render/shading_inputs.h"
@@ -9,8 +11,12 @@
 namespace lancer {
 
 bool scene_has_coverage(const Scene& scene) {
-  for (const Material& m : scene.materials)
-    if (m.alpha_mode != AlphaMode::Opaque) return true;
+  std::vector<bool> partial(scene.materials.size());
+  for (std::size_t i = 0; i < partial.size(); ++i)
+    partial[i] = scene.materials[i].alpha_mode != AlphaMode::Opaque || culls_back_faces(scene.materials[i]);
+  // Only the materials some triangle uses: a file's unused single-sided material costs nothing.
+  for (const std::uint32_t id : scene.material_id)
+    if (id < partial.size() && partial[id]) return true;
   return false;
 }
 
@@ -29,7 +35,7 @@ void skip_uncovered(const Scene& scene, const Accelerator& accel, const Ray& ray
   Ray past = ray;
   Hit next = hit;
   float before = 0.0f;  // t along `ray` of past's origin (give or take the few-ulp offset)
-  for (int k = 0; k < kMaxCrossings && next.valid() && surface_coverage(scene, next) <= 0.0f; ++k) {
+  for (int k = 0; k < kMaxCrossings && next.valid() && surface_coverage(scene, past, next) <= 0.0f; ++k) {
     before += next.t;
     past = continue_past(scene, past, next);
     ++rays;
@@ -48,7 +54,7 @@ float shadow_transmittance(const Scene& scene, const Accelerator& accel, const R
     ++rays;
     const Hit hit = accel.intersect(ray);
     if (!hit.valid()) return through;
-    through *= 1.0f - surface_coverage(scene, hit);
+    through *= 1.0f - surface_coverage(scene, ray, hit);
     if (!(through > 0.0f)) return 0.0f;
     ray = continue_past(scene, ray, hit);
   }

@@ -13,7 +13,10 @@
 //  - Shadow rays (and ambient-occlusion probes) let through the product of (1 - alpha) over
 //    the surfaces they cross: shadow_transmittance, exact rather than sampled.
 //  - An emissive surface emits alpha times its radiance (light sampling included).
-// A scene whose materials are all OPAQUE never pays for any of it (scene_has_coverage).
+// The back side of a single-sided material (culls_back_faces in render/shading_inputs.h)
+// has coverage 0 for every ray: the ray goes on past it, its shadow is not cast, its
+// emission not seen. A scene whose materials are all OPAQUE and double-sided never pays
+// for any of it (scene_has_coverage).
 #pragma once
 
 #include <cstdint>
@@ -30,7 +33,7 @@ namespace lancer {
 // shadow ray counts as blocked and other rays stop at the surface they reached.
 inline constexpr int kMaxCrossings = 1024;
 
-// Whether any material of `scene` is MASK or BLEND.
+// Whether any triangle of `scene` has a MASK, BLEND or back-face-culling material.
 bool scene_has_coverage(const Scene& scene);
 
 // `ray` continued past the triangle of its valid hit `hit`: the same direction, from just

@@ -22,6 +22,10 @@ LightSample sample_area_light(const Scene& scene, const AreaLights& lights, cons
   if (!(s.dist2 > kMinLightDistance2 && s.point.pdf_area > 0.0f)) return s;
   s.wi = d / std::sqrt(s.dist2);
   s.cos_l = -glm::dot(s.point.normal, s.wi);
+  if (s.point.two_sided && s.cos_l < 0.0f) {  // p sees the back side, which emits too
+    s.point.normal = -s.point.normal;
+    s.cos_l = -s.cos_l;
+  }
   if (!(s.cos_l > 0.0f)) return s;
   s.valid = true;
   s.radiance = s.point.radiance;

@@ -13,14 +13,14 @@
 namespace lancer {
 
 struct LightSample {
-  AreaLightSample point;  // where on which triangle, its front normal and area density
+  AreaLightSample point;  // where on which triangle, its emitting side's normal, area density
   glm::vec3 wi{0.0f};     // unit, from the shading point towards point.point
   float dist2 = 0.0f;     // squared distance between them
-  float cos_l = 0.0f;     // cos between the light's front normal and -wi
+  float cos_l = 0.0f;     // cos between point.normal and -wi
   // Radiance the point sends towards the shading point: the triangle's emission with its
   // emissive texture at the point (glTF emissiveFactor x strength x texture).
   glm::vec3 radiance{0.0f};
-  bool valid = false;  // a usable sample: distinct points, the light's front side faces p
+  bool valid = false;  // a usable sample: distinct points, an emitting side faces p
   // The sample's density per unit solid angle at the shading point.
   float pdf_solid_angle() const { return point.pdf_area * dist2 / cos_l; }
 };

@@ -2,10 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
+#include <vector>
 
 #include <glm/geometric.hpp>
 
 #include "render/color.h"
+#include "render/shading_inputs.h"
+#include "render/texture.h"
 
 namespace lancer {
 
@@ -29,6 +33,63 @@ float spot_falloff(const PunctualLight& light, const glm::vec3& to_point) {
   const float cd = glm::dot(light.direction / len, to_point);
   const float t = std::clamp(cd * scale + offset, 0.0f, 1.0f);
   return t * t;
+}
+
+// Whether a material's emission varies over a triangle: an emissive texture, or a coverage
+// (emission is weighted by it, render/coverage.h). Back-face culling plays no part: the
+// estimate looks at the front side.
+bool emission_varies(const Scene& scene, const Material& m) {
+  return texture_image(scene, m.emissive_texture) != nullptr || m.alpha_mode != AlphaMode::Opaque;
+}
+
+// Sub-triangles per edge of the grid that estimates triangle `prim`'s mean emission: about
+// one look per texel of the largest texture involved, between 2 and kMaxGrid per edge.
+constexpr int kMaxGrid = 32;
+constexpr std::size_t kMaxLooks = std::size_t(1) << 22;
+
+int emission_grid(const Scene& scene, const Material& m, std::uint32_t prim) {
+  const std::uint8_t flags = prim < scene.attrib_flags.size() ? scene.attrib_flags[prim] : 0;
+  double texels = 0.0;
+  for (const TextureRef* ref : {&m.emissive_texture, &m.base_color_texture}) {
+    const Image* image = texture_image(scene, *ref);
+    if (image == nullptr) continue;
+    const bool second = ref->texcoord == 1;
+    if (!(flags & (second ? kHasTexcoords1 : kHasTexcoords))) continue;  // one texel everywhere
+    const std::vector<glm::vec2>& uvs = second ? scene.texcoords1 : scene.texcoords;
+    if (uvs.size() < 3 * (std::size_t(prim) + 1)) continue;
+    const glm::vec2* uv = &uvs[3 * std::size_t(prim)];
+    const glm::vec2 d1 = uv[1] - uv[0], d2 = uv[2] - uv[0];
+    // KHR_texture_transform scales UV areas by its determinant.
+    const double det = double(ref->transform[0][0]) * ref->transform[1][1] - double(ref->transform[1][0]) * ref->transform[0][1];
+    const double area = 0.5 * std::abs(double(d1.x) * d2.y - double(d1.y) * d2.x) * std::abs(det);
+    texels = std::max(texels, area * double(image->width) * double(image->height));
+  }
+  if (!(texels < double(kMaxGrid) * kMaxGrid)) return kMaxGrid;  // NaN too
+  return std::clamp(int(std::ceil(std::sqrt(texels))), 2, kMaxGrid);
+}
+
+// The mean luminance of what triangle `t` emits towards its front side, texture and
+// coverage included, over the centroids of an n x n grid of equal sub-triangles: each
+// look is the emission a ray meeting the triangle there would see (evaluate_shading).
+double mean_emitted_luminance(const Scene& scene, const EmissiveTriangle& t, int n) {
+  Ray ray;
+  ray.dir = -t.normal;
+  double sum = 0.0;
+  int count = 0;
+  const float step = 1.0f / float(n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; i + j < n; ++j)
+      for (int flip = 0; flip < (i + j + 1 < n ? 2 : 1); ++flip) {
+        // Upright sub-triangle (i, j) has its centroid at ((i + 1/3), (j + 1/3)) / n, the
+        // inverted one beside it at ((i + 2/3), (j + 2/3)) / n.
+        const float third = flip == 0 ? 1.0f / 3.0f : 2.0f / 3.0f;
+        const float b1 = (float(i) + third) * step, b2 = (float(j) + third) * step;
+        ray.org = t.a + b1 * t.e1 + b2 * t.e2 + t.normal;
+        const ShadingInputs si = evaluate_shading(scene, ray, Hit{1.0f, t.prim, b1, b2});
+        sum += luminance(si.emission * si.alpha);
+        ++count;
+      }
+  return sum / count;
 }
 
 }  // namespace
@@ -56,7 +117,9 @@ PunctualIncidence illuminate(const PunctualLight& light, const glm::vec3& p) {
 }
 
 AreaLights::AreaLights(const Scene& scene) : light_of_prim_(scene.triangle_count(), -1) {
-  double total = 0.0;
+  std::vector<EmissiveTriangle> candidates;
+  std::vector<int> grid;  // per candidate: emission_grid, 0 for a constant emission
+  std::size_t looks = 0;
   for (std::size_t i = 0; i < scene.triangle_count(); ++i) {
     const Material& m = scene.materials[scene.material_id[i]];
     if (!m.emissive()) continue;
@@ -67,15 +130,30 @@ AreaLights::AreaLights(const Scene& scene) : light_of_prim_(scene.triangle_count
     t.e2 = scene.triangles.vertex(i, 2) - t.a;
     const glm::vec3 n = glm::cross(t.e1, t.e2);
     const float len = glm::length(n);
+    // Lights too small for float can never be sampled with a finite pdf: they are left
+    // out (they still show when seen directly).
+    if (!(len > 0.0f) || !std::isfinite(len)) continue;
     t.area = 0.5f * len;
-    t.radiance = m.emission();
-    const double power = static_cast<double>(t.area) * luminance(t.radiance);
-    // Lights too small for float, or with no positive luminance, can never be sampled
-    // with a finite pdf: they are left out (they still show when seen directly).
-    if (!(len > 0.0f) || !std::isfinite(len) || !(power > 0.0) || !std::isfinite(power)) continue;
     t.normal = n / len;
-    total += power;
-    light_of_prim_[i] = static_cast<std::int32_t>(lights_.size());
+    t.radiance = m.emission();
+    t.two_sided = m.double_sided;
+    const int n_grid = emission_varies(scene, m) ? emission_grid(scene, m, t.prim) : 0;
+    looks += std::size_t(n_grid) * std::size_t(n_grid);
+    candidates.push_back(t);
+    grid.push_back(n_grid);
+  }
+  // However many textured emitters a file has, the estimate looks at most kMaxLooks times.
+  const double shrink = looks > kMaxLooks ? std::sqrt(double(kMaxLooks) / double(looks)) : 1.0;
+  double total = 0.0;
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    EmissiveTriangle& t = candidates[k];
+    const double mean = grid[k] == 0 ? luminance(t.radiance)
+                                     : mean_emitted_luminance(scene, t, std::max(1, int(double(grid[k]) * shrink)));
+    t.power = static_cast<double>(t.area) * mean * (t.two_sided ? 2.0 : 1.0);
+    // No positive luminance: never sampled (see the class comment).
+    if (!(t.power > 0.0) || !std::isfinite(t.power)) continue;
+    total += t.power;
+    light_of_prim_[t.prim] = static_cast<std::int32_t>(lights_.size());
     lights_.push_back(t);
     cdf_.push_back(total);
   }
@@ -100,6 +178,7 @@ AreaLightSample AreaLights::sample(float u_pick, float u1, float u2) const {
   AreaLightSample out;
   out.point = t.a + s * t.e1 + r * t.e2;
   out.normal = t.normal;
+  out.two_sided = t.two_sided;
   out.radiance = t.radiance;
   out.pdf_area = pick_probability(i) / t.area;
   out.prim = t.prim;

@@ -25,26 +25,36 @@ struct PunctualIncidence {
 // A range > 0 applies the window the extension recommends, max(min(1 - (d/range)^4, 1), 0).
 PunctualIncidence illuminate(const PunctualLight& light, const glm::vec3& p);
 
-// One emissive triangle, emitting on its front side (the side cross(e1, e2) points to).
+// One emissive triangle, emitting on its front side (the side cross(e1, e2) points to), or
+// on both when its material is double-sided (render/shading_inputs.h, emits_toward).
 struct EmissiveTriangle {
   std::uint32_t prim = 0;
   glm::vec3 a{0.0f}, e1{0.0f}, e2{0.0f};  // p = a + s e1 + t e2
   glm::vec3 normal{0.0f};                 // unit, front side
   float area = 0.0f;
-  glm::vec3 radiance{0.0f};
+  glm::vec3 radiance{0.0f};  // the material's factor x strength, before any texture
+  bool two_sided = false;
+  // Emitted power / pi: area x the mean luminance of the radiance over the triangle
+  // (texture and coverage included), twice that when two-sided. What sample() picks by.
+  double power = 0.0;
 };
 
 struct AreaLightSample {
   glm::vec3 point{0.0f};
   glm::vec3 normal{0.0f};  // the light's front side
+  bool two_sided = false;  // it emits from the back side too
   glm::vec3 radiance{0.0f};
   float pdf_area = 0.0f;   // per unit area, including the choice of the triangle
   std::uint32_t prim = 0;  // the triangle, and the point's barycentrics (Hit's u, v)
   float b1 = 0.0f, b2 = 0.0f;
 };
 
-// All emissive triangles of a scene, chosen in proportion to their power
-// (area times luminance of the emitted radiance) and sampled uniformly in area.
+// All emissive triangles of a scene, chosen in proportion to their power (area times the
+// luminance of the emitted radiance, averaged over the triangle where an emissive texture
+// or a coverage varies it) and sampled uniformly in area. A triangle whose estimated
+// power is 0 (its texture black wherever it was looked at) is not a light: paths that
+// hit it by BSDF sampling count its emission in full (pdf_area is 0), so leaving it out
+// costs noise at worst, never bias.
 class AreaLights {
  public:
   explicit AreaLights(const Scene& scene);

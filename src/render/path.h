@@ -95,6 +95,7 @@ struct PathIntegrator::Path {
   glm::vec3 L{0.0f}, beta{1.0f};
   int bounces = 0;          // scattering events so far (passing through a surface is none)
   float travelled = 0.0f;   // distance from the last scattering point to the ray's origin
+  int crossings = 0;        // surfaces passed since then (render/coverage.h, kMaxCrossings)
   float prev_pdf = 0.0f;   // solid-angle pdf of the BSDF sample that made the ray
   bool prev_delta = true;  // the camera ray, or a delta lobe: no light sampling competes
   bool in_volume = false;

@@ -49,10 +49,13 @@ struct PathBatchStats {
   std::uint64_t packet_rays = 0;  // continuation rays traced as packets (coherent batches)
   std::uint64_t shadow_batches = 0, shadow_rays = 0;
   std::uint64_t shadow_packet_rays = 0;  // shadow rays traced as occlusion packets
+  // Rays traced one by one after a blocked shadow ray, through the surfaces that cover
+  // only part of it (render/coverage.h: cut-outs, BLEND, culled back faces).
+  std::uint64_t crossing_rays = 0;
   PathBatchStats& operator+=(const PathBatchStats& o) {
     continuation_batches += o.continuation_batches, continuation_rays += o.continuation_rays;
     packet_rays += o.packet_rays, shadow_batches += o.shadow_batches, shadow_rays += o.shadow_rays;
-    shadow_packet_rays += o.shadow_packet_rays;
+    shadow_packet_rays += o.shadow_packet_rays, crossing_rays += o.crossing_rays;
     return *this;
   }
 };

@@ -56,8 +56,9 @@ glm::vec4 normal_map_frame(const Scene& scene, std::size_t tri, std::uint8_t fla
 
 }  // namespace
 
-float surface_coverage(const Scene& scene, const Hit& hit) {
+float surface_coverage(const Scene& scene, const Ray& ray, const Hit& hit) {
   const Material& m = scene.materials[scene.material_id[hit.prim]];
+  if (culls_back_faces(m) && !hits_front_face(scene.triangles, hit.prim, ray.dir)) return 0.0f;
   if (m.alpha_mode == AlphaMode::Opaque) return 1.0f;
   const std::size_t tri = hit.prim;
   const float w = 1.0f - hit.u - hit.v, u = hit.u, v = hit.v;
@@ -97,7 +98,7 @@ ShadingInputs evaluate_shading(const Scene& scene, const Ray& ray, const Hit& hi
   // COLOR_0 multiplies the base colour and its alpha (glTF 2.0, "Metallic-Roughness Material").
   if (flags & kHasColors) base *= interpolate(scene.colors, tri, w, u, v);
   si.base_color = glm::vec3(base);
-  si.alpha = coverage(m, base.a);
+  si.alpha = !sp.front_face && culls_back_faces(m) ? 0.0f : coverage(m, base.a);
   const glm::vec4 metal_rough = lookup(m.metallic_roughness_texture, TexelEncoding::Linear);
   si.metallic = m.metallic * metal_rough.b;
   si.roughness = m.roughness * metal_rough.g;

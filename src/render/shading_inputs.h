@@ -75,12 +75,24 @@ struct ShadingInputs {
 // volumetric" ("Thickness Texture"), so a closed mesh is a volume at every point or at none.
 inline bool is_thin_walled(const Material& m) { return !(m.thickness > 0.0f); }
 
+// Whether the back side of `m`'s triangles is culled: invisible to every ray, which goes on
+// past it as past a cut-out (render/coverage.h). glTF 2.0 ("Double Sided"): doubleSided
+// false enables back-face culling. A volume boundary (KHR_materials_volume) keeps its back
+// side, which is where a ray leaves the volume: culling it would let refracted light out of
+// a glass object unrefracted and unattenuated, which is not what a rasteriser shows either.
+inline bool culls_back_faces(const Material& m) { return !m.double_sided && is_thin_walled(m); }
+
+// Whether `m` emits from the side a ray hit: a double-sided material from both sides
+// ("double-sided lighting is enabled"), a single-sided one from its front only.
+inline bool emits_toward(const Material& m, bool front_face) { return front_face || m.double_sided; }
+
 // `hit` must be valid and come from `ray` against `scene.triangles`.
 ShadingInputs evaluate_shading(const Scene& scene, const Ray& ray, const Hit& hit);
 
 // evaluate_shading(...).alpha alone, for the rays that only ask whether a surface is there
-// (render/coverage.h): 1 for an OPAQUE material without looking further.
-float surface_coverage(const Scene& scene, const Hit& hit);
+// (render/coverage.h): 0 on a culled back face (culls_back_faces), else 1 for an OPAQUE
+// material without looking further.
+float surface_coverage(const Scene& scene, const Ray& ray, const Hit& hit);
 
 // Scattered directions and the two normals (issue 20), for every integrator. A BSDF works
 // in the shading frame: a direction on wo's side of ns is reflected, one on the other side

@@ -12,6 +12,14 @@ glm::vec3 base_color_at(const Scene& /*scene*/, const Material& m, std::uint32_t
   return glm::vec3(m.base_color);
 }
 
+bool hits_front_face(const TriangleSoA& tris, std::uint32_t prim, const glm::vec3& dir) {
+  const glm::vec3 a = tris.vertex(prim, 0);
+  const glm::vec3 ng = glm::cross(tris.vertex(prim, 1) - a, tris.vertex(prim, 2) - a);
+  const float len = glm::length(ng);
+  // make_surface_point's fallback normal, -dir, is met on its front side.
+  return !(len > 0.0f && std::isfinite(len)) || glm::dot(ng / len, dir) <= 0.0f;
+}
+
 SurfacePoint make_surface_point(const Scene& scene, const Ray& ray, const Hit& hit) {
   const TriangleSoA& tris = scene.triangles;
   const std::uint32_t i = hit.prim;

@@ -25,6 +25,10 @@ struct SurfacePoint {
   glm::vec3 stored_shading_normal() const { return front_face ? ns : -ns; }
 };
 
+// make_surface_point(...).front_face alone: whether a ray along `dir` meets triangle `prim`
+// on its front side.
+bool hits_front_face(const TriangleSoA& tris, std::uint32_t prim, const glm::vec3& dir);
+
 // `hit` must be valid and come from `ray` against `scene.triangles`.
 SurfacePoint make_surface_point(const Scene& scene, const Ray& ray, const Hit& hit);
 

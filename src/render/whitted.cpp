@@ -80,7 +80,7 @@ glm::vec3 WhittedIntegrator::shade(const Ray& ray, const Hit& hit, int depth, So
 glm::vec3 WhittedIntegrator::shade_surface(const ShadingInputs& si, const Ray& ray, int depth, SobolSampler& sampler,
                                            std::uint64_t& rays) const {
   glm::vec3 L(0.0f);
-  if (si.front_face) L += si.emission;
+  if (emits_toward(*si.material, si.front_face)) L += si.emission;
   if (is_mirror(si)) {
     if (depth < max_depth_) L += mirror(si, ray, depth, sampler, rays);
     return L;
@@ -154,7 +154,7 @@ glm::vec3 WhittedIntegrator::punctual_lighting(const ShadingInputs& si, const Su
 }
 
 // Estimate of the irradiance from the emissive triangles, sampled in area:
-// E = 1/N sum L_e cos_s cos_l / r^2 / pdf_area  (one-sided emitters), L_e with the
+// E = 1/N sum L_e cos_s cos_l / r^2 / pdf_area  (cos_l on the emitting side), L_e with the
 // emissive texture (sample_area_light, the path tracer's light sample).
 glm::vec3 WhittedIntegrator::area_lighting(const ShadingInputs& si, const SurfaceOffset& leave, SobolSampler& sampler,
                                            std::uint64_t& rays) const {

@@ -36,6 +36,9 @@ Material diffuse_material(std::string name, glm::vec3 colour) {
   m.base_color = glm::vec4(colour, 1.0f);
   m.metallic = 0.0f;
   m.roughness = 1.0f;
+  // SPD's NFF polygons follow no winding convention (renderers of the databases shade both
+  // sides), so no side is culled.
+  m.double_sided = true;
   return m;
 }
 
@@ -173,6 +176,7 @@ void SpdEmitter::set_view(const View& view) {
                                      glm::vec4(glm::vec3(-forward), 0.0f), glm::vec4(glm::vec3(from), 1.0f));
   camera.yfov = static_cast<float>(view.fov_degrees * std::numbers::pi / 180.0);
   camera.aspect_ratio = 1.0f;
+  camera.index = int(scene_.cameras.size());
   scene_.cameras.push_back(camera);
 }
 

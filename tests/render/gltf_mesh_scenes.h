@@ -39,7 +39,7 @@ inline Mesh lumpy_sphere() {
   for (int j = 0; j < kStacks; ++j)
     for (int i = 0; i < kSlices; ++i) {
       const std::uint32_t a = std::uint32_t(j * (kSlices + 1) + i), b = a + 1, c = a + kSlices + 1, d = c + 1;
-      m.indices.insert(m.indices.end(), {a, c, b, b, c, d});
+      m.indices.insert(m.indices.end(), {a, b, c, b, d, c});  // front outwards
     }
   return m;
 }

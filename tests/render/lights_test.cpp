@@ -1,6 +1,7 @@
 // Punctual lights (KHR_lights_punctual) and emissive triangles as area lights.
 #include "render/lights.h"
 
+#include <array>
 #include <cmath>
 #include <vector>
 
@@ -198,6 +199,56 @@ TEST(AreaLights, LightsFacingAwayAndBlockedLightsGiveNothing) {
   SobolSampler sampler(0, 0, 0, 0);
   std::uint64_t rays = 0;
   EXPECT_EQ(whitted.radiance(ray_from({0.01f, 0.02f, 0.2f}, {0, 0, -1}), sampler, rays), glm::vec3(0.0f));
+}
+
+// A 64 x 1 RGB strip, nearest-filtered: the left `black` texels black, the rest white.
+int add_strip(Scene& scene, int black) {
+  Image image;
+  image.width = 64;
+  image.height = 1;
+  image.channels = 3;
+  for (int x = 0; x < 64; ++x)
+    for (int c = 0; c < 3; ++c) image.pixels.push_back(x < black ? 0 : 255);
+  scene.images.push_back(image);
+  Texture texture;
+  texture.image = static_cast<int>(scene.images.size() - 1);
+  texture.mag_filter = texture.min_filter = kFilterNearest;
+  texture.wrap_s = texture.wrap_t = 33071;  // CLAMP_TO_EDGE
+  scene.textures.push_back(texture);
+  return static_cast<int>(scene.textures.size() - 1);
+}
+
+// A unit square emitting radiance 1 times the strip (u along x), at x = cx.
+void add_textured_emitter(Scene& scene, float cx, int black) {
+  Material m = test::emissive_material(glm::vec3(1.0f));
+  m.emissive_texture.texture = add_strip(scene, black);
+  const std::uint32_t id = add_material(scene, m);
+  SceneBuilder builder(scene, "emitter");
+  const glm::vec3 p[4] = {{cx, 0, 0}, {cx + 1, 0, 0}, {cx + 1, 1, 0}, {cx, 1, 0}};
+  for (const auto& t : {std::array<int, 3>{0, 1, 2}, std::array<int, 3>{0, 2, 3}}) {
+    const glm::vec3 corners[3] = {p[t[0]], p[t[1]], p[t[2]]};
+    glm::vec2 uvs[3];
+    for (int k = 0; k < 3; ++k) uvs[k] = glm::vec2(corners[k].x - cx, corners[k].y);
+    CornerAttributes attribs;
+    attribs.texcoords = uvs;
+    builder.add_triangle(corners, id, 0, attribs);
+  }
+}
+
+TEST(AreaLights, BlackEmissiveTextureMakesNoLightAndPowerFollowsTheTexture) {
+  Scene scene;
+  add_textured_emitter(scene, 0.0f, 64);  // black everywhere: not a light
+  add_textured_emitter(scene, 2.0f, 0);   // white: the factor's full power
+  add_textured_emitter(scene, 4.0f, 32);  // left half black: half of it
+  const AreaLights lights(scene);
+  ASSERT_EQ(lights.size(), 4u) << "the black square's two triangles are not lights";
+  double white = 0.0, half = 0.0;
+  for (std::size_t i = 0; i < lights.size(); ++i) {
+    EXPECT_GE(lights.light(i).prim, 2u);
+    (lights.light(i).prim < 4 ? white : half) += lights.pick_probability(i);
+  }
+  EXPECT_NEAR(half / white, 0.5, 0.05) << "power estimated over the texture";
+  EXPECT_EQ(lights.pdf_area(0), 0.0f);
 }
 
 }  // namespace

@@ -104,8 +104,15 @@ class ReoffsetAccelerator final : public Accelerator {
   Reoffset mode_;
 };
 
+// Surfaces double-sided here: a ray that wrongly meets the surface it leaves meets it from
+// behind, and single-sided culling would hide exactly the acne these tests measure. The
+// light stays single-sided (a double-sided one would also light the ceiling above it).
 const Scene& cornell() {
-  static const Scene scene = load_scene(test::scenes_dir() / "cornell-box.gltf");
+  static const Scene scene = [] {
+    Scene s = load_scene(test::scenes_dir() / "cornell-box.gltf");
+    for (Material& m : s.materials) m.double_sided = !m.emissive();
+    return s;
+  }();
   return scene;
 }
 

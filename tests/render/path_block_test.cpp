@@ -70,7 +70,7 @@ TEST(PathBlock, BatchCountsAddUpToTheRaysTraced) {
   RenderStats stats;
   render_image(scene, kd, camera, s, stats);
   const PathBatchStats& b = stats.path_batches;
-  EXPECT_EQ(stats.primary_rays + b.continuation_rays + b.shadow_rays, stats.rays);
+  EXPECT_EQ(stats.primary_rays + b.continuation_rays + b.shadow_rays + b.crossing_rays, stats.rays);
   EXPECT_GT(b.shadow_batches, 0u);
   // One batch per bounce of a wavefront (a 16x16 tile: four blocks): at least one and at
   // most max_depth per wavefront and pass.

@@ -13,8 +13,11 @@
 
 namespace lancer::test {
 
+// The materials below are double-sided (both sides seen, shaded and casting shadows) unless
+// they say otherwise; single_sided_test.cpp tests glTF's default, single-sided faces.
 inline Material diffuse_material(const glm::vec3& albedo) {
   Material m;
+  m.double_sided = true;
   m.base_color = glm::vec4(albedo, 1.0f);
   m.metallic = 0.0f;
   m.roughness = 1.0f;
@@ -23,6 +26,7 @@ inline Material diffuse_material(const glm::vec3& albedo) {
 
 inline Material mirror_material(const glm::vec3& color) {
   Material m;
+  m.double_sided = true;
   m.base_color = glm::vec4(color, 1.0f);
   m.metallic = 1.0f;
   m.roughness = 0.0f;
@@ -37,9 +41,11 @@ inline Material glass_material(float ior) {
   return m;
 }
 
-// A black diffuse surface emitting `radiance` from its front side.
+// A black diffuse surface emitting `radiance` from its front side; single-sided, so its
+// back is not there at all (render/shading_inputs.h, culls_back_faces).
 inline Material emissive_material(const glm::vec3& radiance, float strength = 1.0f) {
   Material m = diffuse_material(glm::vec3(0.0f));
+  m.double_sided = false;
   m.emissive_factor = radiance;
   m.emissive_strength = strength;
   return m;

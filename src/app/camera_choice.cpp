@@ -20,14 +20,27 @@ PinholeCamera choose_camera(const CameraRequest& request, const Scene& scene, in
     return PinholeCamera::look_at(*request.eye, *request.look_at, request.up.value_or(glm::vec3(0, 1, 0)), fov, width,
                                   height);
   }
-  if (request.camera && *request.camera >= static_cast<int>(scene.cameras.size()))
-    throw std::invalid_argument("--camera " + std::to_string(*request.camera) + ": the scene has " +
-                                std::to_string(scene.cameras.size()) + " camera(s)");
   if (!scene.cameras.empty()) {
-    CameraDesc desc = scene.cameras[static_cast<std::size_t>(request.camera.value_or(0))];
+    const CameraDesc* chosen = &scene.cameras.front();
+    if (request.camera) {
+      // The file's camera numbers (CameraDesc::index), not the order the scene places them in.
+      auto it = std::find_if(scene.cameras.begin(), scene.cameras.end(),
+                             [&](const CameraDesc& c) { return c.index == *request.camera; });
+      if (it == scene.cameras.end()) {
+        std::string have;
+        for (const CameraDesc& c : scene.cameras) have += (have.empty() ? "" : ", ") + std::to_string(c.index);
+        throw std::invalid_argument("--camera " + std::to_string(*request.camera) +
+                                    ": the scene places no such camera (it has camera(s) " + have + ")");
+      }
+      chosen = &*it;
+    }
+    CameraDesc desc = *chosen;
     if (!height_given && desc.aspect_ratio && *desc.aspect_ratio > 0.0f)
       height = std::max(1, static_cast<int>(std::lround(width / *desc.aspect_ratio)));
-    if (request.fov_degrees) desc.yfov = static_cast<float>(*request.fov_degrees * kDegrees);
+    if (request.fov_degrees) {
+      if (desc.orthographic) throw std::invalid_argument("--fov: the chosen camera is orthographic (it has no field of view)");
+      desc.yfov = static_cast<float>(*request.fov_degrees * kDegrees);
+    }
     return PinholeCamera::from_desc(desc, width, height);
   }
   if (request.camera) throw std::invalid_argument("--camera given but the scene has no cameras");

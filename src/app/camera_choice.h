@@ -13,7 +13,7 @@
 namespace lancer {
 
 struct CameraRequest {
-  std::optional<int> camera;  // glTF camera index
+  std::optional<int> camera;  // glTF camera index (CameraDesc::index)
   std::optional<glm::vec3> eye, look_at, up;
   std::optional<float> fov_degrees;  // vertical
 };

@@ -112,7 +112,11 @@ void add_render_command(CLI::App& app, RenderOptions& opt) {
       ->check(CLI::IsMember(accels))->capture_default_str();
   add_kd_split_option(*render, opt.kd_split);
   add_isa_option(*render, opt.isa);
-  render->add_option("--camera", opt.camera, "Index of the scene camera to use")->check(CLI::NonNegativeNumber);
+  render->add_option("--camera", opt.camera,
+                     "Number of the glTF camera to use, as in the file's cameras (default: the first the scene places)")
+      ->check(CLI::NonNegativeNumber);
+  render->add_option("--scene", opt.gltf_scene, "Number of the glTF scene to render (default: the file's default scene)")
+      ->check(CLI::NonNegativeNumber);
   add_vec3_option(*render, "--eye", opt.eye, "Camera position (overrides the scene camera)");
   add_vec3_option(*render, "--look-at", opt.look_at, "Point the camera looks at");
   add_vec3_option(*render, "--up", opt.up, "Camera up direction (default 0,1,0)");
@@ -126,6 +130,8 @@ void add_info_command(CLI::App& app, InfoOptions& opt) {
   info->add_option("scene", opt.scene, "Scene file (.gltf, .glb or .obj)")->required();
   std::vector<std::string> accels;
   for (auto n : accelerator_names()) accels.emplace_back(n);
+  info->add_option("--scene", opt.gltf_scene, "Number of the glTF scene to describe (default: the file's default scene)")
+      ->check(CLI::NonNegativeNumber);
   info->add_option("--accel", opt.accel, "Accelerator to build and describe")->check(CLI::IsMember(accels))->capture_default_str();
   add_kd_split_option(*info, opt.kd_split);
   add_isa_option(*info, opt.isa);

@@ -17,7 +17,7 @@ namespace lancer {
 
 int run_info(const InfoOptions& opt, std::ostream& out, std::ostream& err) {
   try {
-    const Scene scene = load_scene(opt.scene);
+    const Scene scene = load_scene(opt.scene, opt.gltf_scene);
     const Bounds3 b = scene.bounds();
     std::size_t emissive = 0;
     for (std::uint32_t id : scene.material_id) emissive += scene.materials[id].emissive() ? 1 : 0;

@@ -2,12 +2,14 @@
 #pragma once
 
 #include <iosfwd>
+#include <optional>
 #include <string>
 
 namespace lancer {
 
 struct InfoOptions {
   std::string scene;
+  std::optional<int> gltf_scene;  // --scene
   std::string accel = "kdtree";
   std::string kd_split = "sah";
   std::string isa;  // empty: the best this CPU supports

@@ -37,6 +37,20 @@ PinholeCamera PinholeCamera::from_desc(const CameraDesc& desc, int width, int he
   const glm::vec3 eye(m[3]);
   const glm::vec3 forward = -glm::vec3(m[2]);
   const glm::vec3 up(m[1]);
+  if (desc.orthographic) {
+    // The axes look_at builds, rescaled: ymag vertically (mirrored when negative) and, as
+    // for a perspective camera's yfov, ymag times the image's aspect ratio horizontally,
+    // mirrored when xmag is negative. The image's height follows xmag / ymag by default
+    // (CameraDesc::aspect_ratio).
+    PinholeCamera cam = look_at(eye, eye + forward, up, 0.5f * std::numbers::pi_v<float>, width, height);
+    if (!(std::isfinite(desc.ymag) && desc.ymag != 0.0f && std::isfinite(desc.xmag) && desc.xmag != 0.0f))
+      throw std::invalid_argument("camera: orthographic magnifications must be finite and non-zero");
+    cam.orthographic_ = true;
+    const float aspect = static_cast<float>(width) / static_cast<float>(height);
+    cam.x_axis_ = glm::normalize(cam.x_axis_) * (aspect * std::abs(desc.ymag) * (desc.xmag < 0.0f ? -1.0f : 1.0f));
+    cam.y_axis_ = glm::normalize(cam.y_axis_) * desc.ymag;
+    return cam;
+  }
   PinholeCamera cam = look_at(eye, eye + forward, up, desc.yfov, width, height);
   if (desc.aperture_radius)
     cam.set_thin_lens(*desc.aperture_radius, desc.focus_distance.value_or(std::numeric_limits<float>::infinity()));
@@ -47,6 +61,8 @@ void PinholeCamera::set_thin_lens(float aperture_radius, float focus_distance) {
   if (!(std::isfinite(aperture_radius) && aperture_radius >= 0.0f))
     throw std::invalid_argument("camera: aperture radius must be finite and >= 0");
   if (!(focus_distance > 0.0f)) throw std::invalid_argument("camera: focus distance must be positive");
+  if (orthographic_ && aperture_radius > 0.0f)
+    throw std::invalid_argument("camera: an orthographic camera has no lens (no aperture, no depth of field)");
   aperture_radius_ = aperture_radius;
   focus_distance_ = focus_distance;
 }
@@ -60,16 +76,22 @@ PinholeCamera PinholeCamera::framing(const Bounds3& box, int width, int height) 
   const float aspect = static_cast<float>(width) / static_cast<float>(height);
   const float half = aspect < 1.0f ? std::atan(std::tan(0.5f * kFov) * aspect) : 0.5f * kFov;
   const float distance = radius / std::sin(half);
-  return look_at(center + glm::vec3(0.0f, 0.0f, distance), center, glm::vec3(0.0f, 1.0f, 0.0f), kFov, width,
-                 height);
+  // 45 degrees from +z towards +x, 30 degrees up: (sin 45 cos 30, sin 30, cos 45 cos 30).
+  const glm::vec3 towards_eye(0.6123724357f, 0.5f, 0.6123724357f);
+  return look_at(center + distance * towards_eye, center, glm::vec3(0.0f, 1.0f, 0.0f), kFov, width, height);
 }
 
 Ray PinholeCamera::generate(float i, float j) const {
   const float sx = 2.0f * (i / static_cast<float>(width_) - 0.5f);
   const float sy = 2.0f * (j / static_cast<float>(height_) - 0.5f);
   Ray r;
-  r.org = origin_;
-  r.dir = glm::normalize(forward_ + sx * x_axis_ + sy * y_axis_);
+  if (orthographic_) {
+    r.org = origin_ + sx * x_axis_ + sy * y_axis_;
+    r.dir = forward_;
+  } else {
+    r.org = origin_;
+    r.dir = glm::normalize(forward_ + sx * x_axis_ + sy * y_axis_);
+  }
   r.tnear = 0.0f;
   r.tfar = kInfinity;
   return r;

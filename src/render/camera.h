@@ -9,6 +9,10 @@
 // pinhole ray through (i, j) meets the focus plane, o + focus_distance * d (d unnormalised,
 // d.f = 1), so everything on that plane is sharp. An infinite focus distance keeps every
 // ray parallel to the pinhole ray. With aperture 0 the camera is exactly the pinhole.
+//
+// Or orthographic (a glTF "orthographic" camera): every ray runs along f, from the point
+// o + 2(i/W - 0.5) x + 2(j/H - 0.5) y of the image plane through o, x and y the view's
+// half extents in scene units. It has no lens.
 #pragma once
 
 #include <limits>
@@ -32,7 +36,9 @@ class PinholeCamera {
   // A glTF camera (looks down its local -z, +y up) with its yfov, and its thin lens when
   // the description has an aperture (focus at infinity unless a focus distance is given).
   static PinholeCamera from_desc(const CameraDesc& desc, int width, int height);
-  // Looks at the box from its +z side (the glTF "front"), far enough to see all of it.
+  // Looks at the box's centre from a three-quarter view (from the front, +z, turned 45
+  // degrees towards +x and raised 30 degrees), far enough to see all of it: a model lying
+  // flat in any of the axis planes is seen at an angle, not edge-on.
   static PinholeCamera framing(const Bounds3& box, int width, int height);
 
   // A primary ray through continuous pixel position (i, j); dir is unit length. Always
@@ -43,8 +49,10 @@ class PinholeCamera {
   Ray generate(float i, float j, glm::vec2 lens_u) const;
 
   // aperture_radius in scene units (0: pinhole); focus_distance along the optical axis,
-  // in scene units, > 0, may be +infinity. Throws std::invalid_argument otherwise.
+  // in scene units, > 0, may be +infinity. Throws std::invalid_argument otherwise, and for
+  // an orthographic camera with an aperture.
   void set_thin_lens(float aperture_radius, float focus_distance);
+  bool orthographic() const { return orthographic_; }
   float aperture_radius() const { return aperture_radius_; }
   float focus_distance() const { return focus_distance_; }
 
@@ -64,6 +72,7 @@ class PinholeCamera {
   int height_ = 1;
   float aperture_radius_ = 0.0f;
   float focus_distance_ = std::numeric_limits<float>::infinity();
+  bool orthographic_ = false;  // x_axis_ and y_axis_: the half extents in scene units
 };
 
 // Shirley & Chiu's concentric map ("A Low Distortion Map Between Disk and Square", JGT

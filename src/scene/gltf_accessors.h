@@ -24,6 +24,7 @@ namespace lancer::gltf {
 struct ModelRef {
   const tinygltf::Model& model;
   const std::string& file;
+  int scene = -1;  // the glTF scene to load (--scene); -1: the file's default scene
 };
 
 // The largest accessor without a bufferView (all zeros, typically the base of a

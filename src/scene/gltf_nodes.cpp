@@ -89,13 +89,16 @@ std::vector<int> root_nodes(const ModelRef& m, const std::vector<int>& parent) {
   if (m.model.defaultScene >= 0 && std::size_t(m.model.defaultScene) >= scenes.size())
     throw SceneError(m.file, "default scene " + std::to_string(m.model.defaultScene) + " out of range (the file has " +
                                  std::to_string(scenes.size()) + " scenes)");
+  if (m.scene >= 0 && std::size_t(m.scene) >= scenes.size())
+    throw SceneError(m.file, "--scene " + std::to_string(m.scene) + ": the file has " + std::to_string(scenes.size()) +
+                                 " scene(s)");
   std::vector<int> roots;
   if (scenes.empty()) {
     for (std::size_t i = 0; i < parent.size(); ++i)
       if (parent[i] == -1) roots.push_back(int(i));
     return roots;
   }
-  const int chosen = m.model.defaultScene >= 0 ? m.model.defaultScene : 0;
+  const int chosen = m.scene >= 0 ? m.scene : m.model.defaultScene >= 0 ? m.model.defaultScene : 0;
   const std::string what = "scene " + std::to_string(chosen);
   std::vector<char> listed(parent.size(), 0);
   for (int n : scenes[std::size_t(chosen)].nodes) {

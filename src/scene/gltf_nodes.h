@@ -14,7 +14,8 @@ struct NodeInstance {
 };
 
 // The nodes of the scene to load, in depth-first pre-order with children in array
-// order, each with its world matrix. The scene is model.scene when set, else scene 0,
+// order, each with its world matrix. The scene is m.scene when set (--scene), else the
+// file's default scene when set, else scene 0,
 // else (no scenes) every root node in index order. Throws SceneError when a child or
 // scene index is out of range, a node has two parents, the hierarchy has a cycle, or
 // a node's matrix/TRS is malformed: glTF requires the hierarchy to be a forest.

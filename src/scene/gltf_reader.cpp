@@ -187,20 +187,29 @@ void add_camera(const ModelRef& m, int node, int camera, const glm::dmat4& world
                                  " out of range (the file has " + std::to_string(m.model.cameras.size()) + " cameras)");
   const tinygltf::Camera& c = m.model.cameras[std::size_t(camera)];
   const std::string what = "camera " + std::to_string(camera);
-  if (c.type != "perspective") {
-    print_scene_warnings(m.file, "skipping " + c.type + " " + what + " (only perspective cameras are supported)");
-    return;
-  }
-  const double yfov = c.perspective.yfov;
-  if (!(yfov > 0.0 && yfov < std::numbers::pi))
-    throw SceneError(m.file, what + ": yfov must be between 0 and pi radians");
-  const double aspect = c.perspective.aspectRatio;  // tinygltf: 0 when absent
-  if (!(aspect >= 0.0) || !std::isfinite(aspect)) throw SceneError(m.file, what + ": aspectRatio must be positive");
   CameraDesc desc;
   desc.name = !c.name.empty() ? c.name : m.model.nodes[std::size_t(node)].name;
+  desc.index = camera;
   desc.camera_to_world = glm::mat4(world);
-  desc.yfov = float(yfov);
-  if (aspect > 0.0) desc.aspect_ratio = float(aspect);
+  if (c.type == "orthographic") {
+    // glTF 2.0: xmag and ymag "MUST NOT be equal to zero" and "SHOULD NOT be negative".
+    const double xmag = c.orthographic.xmag, ymag = c.orthographic.ymag;
+    constexpr double kMax = std::numeric_limits<float>::max();
+    if (!(std::abs(xmag) > 0.0 && std::abs(xmag) <= kMax && std::abs(ymag) > 0.0 && std::abs(ymag) <= kMax))
+      throw SceneError(m.file, what + ": orthographic xmag and ymag must be finite and non-zero");
+    desc.orthographic = true;
+    desc.xmag = float(xmag);
+    desc.ymag = float(ymag);
+    desc.aspect_ratio = float(std::abs(xmag / ymag));
+  } else {
+    const double yfov = c.perspective.yfov;
+    if (!(yfov > 0.0 && yfov < std::numbers::pi))
+      throw SceneError(m.file, what + ": yfov must be between 0 and pi radians");
+    const double aspect = c.perspective.aspectRatio;  // tinygltf: 0 when absent
+    if (!(aspect >= 0.0) || !std::isfinite(aspect)) throw SceneError(m.file, what + ": aspectRatio must be positive");
+    desc.yfov = float(yfov);
+    if (aspect > 0.0) desc.aspect_ratio = float(aspect);
+  }
   desc.aperture_radius = camera_extra(m, c.extras, "aperture", what, true);
   desc.focus_distance = camera_extra(m, c.extras, "focusDistance", what, false);
   scene.cameras.push_back(desc);
@@ -278,8 +287,8 @@ gltf::MeshPose mesh_pose(const ModelRef& m, int index, std::vector<glm::dmat4>& 
   return pose;
 }
 
-Scene scene_from_model(const tinygltf::Model& model, const std::string& file) {
-  const ModelRef m{model, file};
+Scene scene_from_model(const tinygltf::Model& model, const std::string& file, int scene_index) {
+  const ModelRef m{model, file, scene_index};
   // A required extension Lancer lacks was refused already (check_gltf_json); one the file
   // only uses is rendered without, and the user is told which.
   for (const std::string& used : model.extensionsUsed)
@@ -315,16 +324,16 @@ Scene scene_from_model(const tinygltf::Model& model, const std::string& file) {
 
 }  // namespace
 
-Scene read_gltf(const std::filesystem::path& path) {
+Scene read_gltf(const std::filesystem::path& path, int scene) {
   const std::string file = path.string();
   // The file's bytes are freed once parsed: tinygltf keeps its own copy of the buffers.
   const tinygltf::Model model = load_model(read_whole_file(path, file), path, file);
-  return scene_from_model(model, file);
+  return scene_from_model(model, file, scene);
 }
 
-Scene read_gltf_bytes(std::span<const unsigned char> bytes, const std::filesystem::path& path) {
+Scene read_gltf_bytes(std::span<const unsigned char> bytes, const std::filesystem::path& path, int scene) {
   const std::string file = path.string();
-  return scene_from_model(load_model(bytes, path, file), file);
+  return scene_from_model(load_model(bytes, path, file), file, scene);
 }
 
 }  // namespace lancer

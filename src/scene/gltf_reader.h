@@ -8,12 +8,13 @@
 
 namespace lancer {
 
-// Throws SceneError on anything malformed. May return a scene with no triangles.
-Scene read_gltf(const std::filesystem::path& path);
+// Throws SceneError on anything malformed. May return a scene with no triangles. `scene`
+// chooses one of the file's scenes (glTF "scenes"); -1 loads its default scene.
+Scene read_gltf(const std::filesystem::path& path, int scene = -1);
 
 // The same for a file's bytes already in memory (the fuzz target uses it). `path` is
 // only named in messages, gives the folder external buffers and images resolve
 // against, and by its extension says whether the bytes must be a binary glTF.
-Scene read_gltf_bytes(std::span<const unsigned char> bytes, const std::filesystem::path& path);
+Scene read_gltf_bytes(std::span<const unsigned char> bytes, const std::filesystem::path& path, int scene = -1);
 
 }  // namespace lancer

@@ -268,13 +268,21 @@ int add_node(tinygltf::Model& model, tinygltf::Node node) {
 void add_cameras(tinygltf::Model& model, const Scene& scene) {
   for (const CameraDesc& desc : scene.cameras) {
     tinygltf::Camera c;
-    c.type = "perspective";
     c.name = desc.name;
-    c.perspective.yfov = desc.yfov;
-    c.perspective.aspectRatio = desc.aspect_ratio ? double(*desc.aspect_ratio) : 0.0;  // 0: not written
     // tinygltf always writes zfar; Lancer traces rays and ignores both planes.
-    c.perspective.znear = 1e-3;
-    c.perspective.zfar = 1e9;
+    if (desc.orthographic) {
+      c.type = "orthographic";
+      c.orthographic.xmag = desc.xmag;
+      c.orthographic.ymag = desc.ymag;
+      c.orthographic.znear = 0.0;
+      c.orthographic.zfar = 1e9;
+    } else {
+      c.type = "perspective";
+      c.perspective.yfov = desc.yfov;
+      c.perspective.aspectRatio = desc.aspect_ratio ? double(*desc.aspect_ratio) : 0.0;  // 0: not written
+      c.perspective.znear = 1e-3;
+      c.perspective.zfar = 1e9;
+    }
     model.cameras.push_back(c);
     tinygltf::Node node;
     node.name = desc.name;

@@ -11,7 +11,7 @@
 
 namespace lancer {
 
-Scene load_scene(const std::filesystem::path& path) {
+Scene load_scene(const std::filesystem::path& path, std::optional<int> gltf_scene) {
   const std::string file = path.string();
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw SceneError(file, "no such file");
@@ -21,8 +21,9 @@ Scene load_scene(const std::filesystem::path& path) {
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
   Scene scene;
   if (ext == ".gltf" || ext == ".glb") {
-    scene = read_gltf(path);
+    scene = read_gltf(path, gltf_scene.value_or(-1));
   } else if (ext == ".obj") {
+    if (gltf_scene) throw SceneError(file, "--scene: an OBJ file has no scenes to choose from");
     scene = read_obj(path);
   } else {
     throw SceneError(file, "unknown scene format '" + ext + "' (expected .gltf, .glb or .obj)");

@@ -2,12 +2,14 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 
 #include "scene/scene.h"
 
 namespace lancer {
 
 // Throws SceneError naming the file and the problem. A scene with no triangles is an error.
-Scene load_scene(const std::filesystem::path& path);
+// `gltf_scene` (--scene) chooses one of a glTF file's scenes; an OBJ file has none to choose.
+Scene load_scene(const std::filesystem::path& path, std::optional<int> gltf_scene = std::nullopt);
 
 }  // namespace lancer

@@ -100,9 +100,16 @@ struct Image {
 
 struct CameraDesc {
   std::string name;
+  // The number `--camera` selects: the camera's index in the glTF file's cameras (a camera
+  // placed by several nodes is known by its first placement), else its place in the list.
+  int index = 0;
   glm::mat4 camera_to_world{1.0f};  // camera looks down -z, +y up (glTF convention)
-  float yfov = 0.8f;                // radians
+  float yfov = 0.8f;                // radians (perspective)
   std::optional<float> aspect_ratio;
+  // glTF "orthographic": parallel rays along -z; the view spans [-xmag, xmag] x [-ymag,
+  // ymag] in the camera's x and y (scene units; a negative magnification mirrors).
+  bool orthographic = false;
+  float xmag = 1.0f, ymag = 1.0f;
   // A thin lens, from the glTF camera's extras {"aperture": r, "focusDistance": d} (a
   // Lancer convention; glTF itself has no lens): lens radius r >= 0 and distance d > 0 to
   // the plane in focus, both in scene units. No focus distance: focused at infinity.

@@ -134,5 +134,37 @@ TEST(Camera, FramingSeesTheWholeBox) {
   }
 }
 
+TEST(Camera, FramingSeesEveryAxisPlaneAtAnAngle) {
+  // A model lying flat in any axis plane must not be seen edge-on: the view direction
+  // makes at least 30 degrees with each of the planes.
+  const PinholeCamera cam = PinholeCamera::framing({{-1, -1, -1}, {1, 1, 1}}, 64, 64);
+  for (int axis = 0; axis < 3; ++axis) EXPECT_GE(std::abs(cam.forward()[axis]), 0.49f) << "axis " << axis;
+  EXPECT_LT(cam.forward().y, 0.0f) << "from above";
+  EXPECT_LT(cam.forward().z, 0.0f) << "from the front (+z)";
+}
+
+TEST(Camera, OrthographicRaysAreParallelAndSpanTheMagnification) {
+  CameraDesc desc;
+  desc.orthographic = true;
+  desc.xmag = 3.0f;
+  desc.ymag = 1.5f;
+  desc.camera_to_world = glm::translate(glm::mat4(1.0f), glm::vec3(1, 2, 3));
+  const PinholeCamera cam = PinholeCamera::from_desc(desc, 200, 100);
+  EXPECT_TRUE(cam.orthographic());
+  for (auto [i, j] : {std::pair{0.0f, 0.0f}, std::pair{200.0f, 100.0f}, std::pair{100.0f, 50.0f}, std::pair{37.5f, 80.0f}}) {
+    const Ray r = cam.generate(i, j);
+    EXPECT_EQ(r.dir, glm::vec3(0, 0, -1));
+    EXPECT_NEAR(r.org.x, 1.0f + 3.0f * (i / 100.0f - 1.0f), 1e-5f) << "x spans [-xmag, xmag]";
+    EXPECT_NEAR(r.org.y, 2.0f - 1.5f * (j / 50.0f - 1.0f), 1e-5f) << "y spans [-ymag, ymag], j downwards";
+    EXPECT_EQ(r.org.z, 3.0f);
+  }
+  // No lens: a thin lens is refused, a zero aperture is not.
+  PinholeCamera lensless = cam;
+  EXPECT_THROW(lensless.set_thin_lens(0.1f, 5.0f), std::invalid_argument);
+  EXPECT_NO_THROW(lensless.set_thin_lens(0.0f, 5.0f));
+  desc.ymag = 0.0f;
+  EXPECT_THROW(PinholeCamera::from_desc(desc, 10, 10), std::invalid_argument);
+}
+
 }  // namespace
 }  // namespace lancer

@@ -149,7 +149,7 @@ TEST_F(GltfContent, PerspectiveCamerasInTraversalOrder) {
                      {"perspective", {{"yfov", 0.5}, {"aspectRatio", 1.5}, {"znear", 0.1}}}});
   b.push("cameras", {{"type", "perspective"}, {"perspective", {{"yfov", 0.9}, {"znear", 0.01}}}});
   b.push("cameras",
-         {{"type", "orthographic"}, {"orthographic", {{"xmag", 1.0}, {"ymag", 1.0}, {"znear", 0.1}, {"zfar", 10.0}}}});
+         {{"type", "orthographic"}, {"orthographic", {{"xmag", 2.0}, {"ymag", 1.0}, {"znear", 0.1}, {"zfar", 10.0}}}});
   const int second = b.add_node({{"camera", 1}, {"name", "second"}});
   const int ortho = b.add_node({{"camera", 2}});
   // 90 degrees about +y turns the view direction -z into -x.
@@ -158,20 +158,51 @@ TEST_F(GltfContent, PerspectiveCamerasInTraversalOrder) {
   b.write_data_uri_gltf(path("cam.gltf"));
   testing::internal::CaptureStderr();
   const Scene s = read_gltf(path("cam.gltf"));
-  const std::string err = testing::internal::GetCapturedStderr();
-  EXPECT_NE(err.find("orthographic"), std::string::npos) << "a warning names the skipped camera: " << err;
-  ASSERT_EQ(s.cameras.size(), 2u);
+  EXPECT_EQ(testing::internal::GetCapturedStderr(), "") << "every camera is read, none skipped";
+  // In the order the scene places them, each known by its number in the file.
+  ASSERT_EQ(s.cameras.size(), 3u);
+  EXPECT_EQ(s.cameras[0].index, 0);
+  EXPECT_EQ(s.cameras[1].index, 2);
+  EXPECT_EQ(s.cameras[2].index, 1);
   EXPECT_EQ(s.cameras[0].name, "main");
+  EXPECT_FALSE(s.cameras[0].orthographic);
   EXPECT_FLOAT_EQ(s.cameras[0].yfov, 0.5f);
   ASSERT_TRUE(s.cameras[0].aspect_ratio.has_value());
   EXPECT_FLOAT_EQ(*s.cameras[0].aspect_ratio, 1.5f);
   expect_vec3(glm::vec3(s.cameras[0].camera_to_world * glm::vec4(0, 0, 0, 1)), {1, 2, 3});
   expect_vec3(glm::vec3(s.cameras[0].camera_to_world * glm::vec4(0, 0, -1, 0)), {-1, 0, 0});
   expect_vec3(glm::vec3(s.cameras[0].camera_to_world * glm::vec4(0, 1, 0, 0)), {0, 1, 0});
-  EXPECT_EQ(s.cameras[1].name, "second") << "unnamed camera takes its node's name";
-  EXPECT_FLOAT_EQ(s.cameras[1].yfov, 0.9f);
-  EXPECT_FALSE(s.cameras[1].aspect_ratio.has_value());
-  EXPECT_EQ(s.cameras[1].camera_to_world, glm::mat4(1.0f));
+  EXPECT_TRUE(s.cameras[1].orthographic);
+  EXPECT_FLOAT_EQ(s.cameras[1].xmag, 2.0f);
+  EXPECT_FLOAT_EQ(s.cameras[1].ymag, 1.0f);
+  ASSERT_TRUE(s.cameras[1].aspect_ratio.has_value());
+  EXPECT_FLOAT_EQ(*s.cameras[1].aspect_ratio, 2.0f) << "xmag / ymag";
+  EXPECT_EQ(s.cameras[2].name, "second") << "unnamed camera takes its node's name";
+  EXPECT_FLOAT_EQ(s.cameras[2].yfov, 0.9f);
+  EXPECT_FALSE(s.cameras[2].aspect_ratio.has_value());
+  EXPECT_EQ(s.cameras[2].camera_to_world, glm::mat4(1.0f));
+}
+
+TEST_F(GltfContent, OrthographicCameraWithZeroMagnificationIsRefused) {
+  GltfBuilder b;
+  b.push("cameras", {{"type", "orthographic"}, {"orthographic", {{"xmag", 0.0}, {"ymag", 1.0}, {"znear", 0.1}, {"zfar", 10.0}}}});
+  b.set_scene({b.add_node({{"camera", 0}})});
+  b.write_data_uri_gltf(path("zero.gltf"));
+  expect_error(path("zero.gltf"), "xmag and ymag must be finite and non-zero");
+}
+
+TEST_F(GltfContent, SceneOptionChoosesAmongTheFilesScenes) {
+  GltfBuilder b;
+  const int a = b.add_node({{"name", "a"}, {"camera", 0}});
+  const int c = b.add_node({{"name", "c"}, {"camera", 1}});
+  b.push("cameras", {{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}});
+  b.push("cameras", {{"type", "perspective"}, {"perspective", {{"yfov", 0.7}, {"znear", 0.1}}}});
+  b.set_scene({a});
+  b.push("scenes", {{"nodes", {c}}});
+  b.write_data_uri_gltf(path("two.gltf"));
+  ASSERT_EQ(read_gltf(path("two.gltf")).cameras.at(0).index, 0) << "the default scene";
+  ASSERT_EQ(read_gltf(path("two.gltf"), 1).cameras.at(0).index, 1) << "--scene 1";
+  expect_error(path("two.gltf"), "--scene 2: the file has 2 scene(s)", 2);
 }
 
 TEST_F(GltfContent, PunctualLightsOfAllThreeTypes) {

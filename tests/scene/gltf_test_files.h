@@ -217,10 +217,10 @@ class GltfTempDir : public ::testing::Test {
   }
   std::filesystem::path path(const std::string& name) const { return dir_ / name; }
 
-  // read_gltf(file) must throw SceneError whose message has the file name and `word`.
-  void expect_error(const std::filesystem::path& file, const std::string& word) {
+  // read_gltf(file, scene) must throw SceneError whose message has the file name and `word`.
+  void expect_error(const std::filesystem::path& file, const std::string& word, int scene = -1) {
     try {
-      const Scene s = read_gltf(file);
+      const Scene s = read_gltf(file, scene);
       ADD_FAILURE() << file << " loaded (" << s.triangle_count() << " triangles), expected an error with '" << word
                     << "'";
     } catch (const SceneError& e) {

@@ -39,8 +39,13 @@ struct LayerCase {
   bool at_most_one = true;
 };
 
+// Names built by appending: GCC 12 warns (-Wrestrict, a false positive) on "r" + temporary.
 std::string angle_name(float a) { return std::to_string(static_cast<int>(a)) + "deg"; }
-std::string roughness_name(float r) { return "r" + std::to_string(static_cast<int>(std::lround(r * 100))); }
+std::string roughness_name(float r) {
+  std::string name = "r";
+  name += std::to_string(static_cast<int>(std::lround(r * 100)));
+  return name;
+}
 
 BsdfInputs lambert() { return {glm::vec3(1.0f), 0.0f, 0.7f, 1.5f, 0.0f}; }
 
@@ -49,7 +54,7 @@ std::vector<LayerCase> layer_cases() {
   const float angles[] = {0.0f, 30.0f, 60.0f, 85.0f};
   for (float r : {0.1f, 0.3f, 0.6f, 1.0f})
     for (float a : angles) {
-      std::string suffix = "_";  // appended piecewise: GCC 12 warns (-Wrestrict) on "_" + temporary
+      std::string suffix = "_";
       suffix += roughness_name(r);
       suffix += "_";
       suffix += angle_name(a);

@@ -5,7 +5,8 @@
 //    albedo E(cos) as its value; a white sheen over a white Lambert base is 1 (the albedo
 //    scaling of KHR_materials_sheen conserves energy there);
 //  - KHR_materials_unlit shows its base colour in the dark, for the path tracer and Whitted,
-//    and is no light for next-event estimation.
+//    and is no light for next-event estimation;
+//  - the same from glTF files that require the extensions (reader to image).
 #include <cmath>
 #include <cstdio>
 
@@ -19,6 +20,8 @@
 #include "render/renderer.h"
 #include "image_estimate.h"
 #include "render_test_scenes.h"
+#include "scene/gltf_reader.h"
+#include "scene/gltf_test_files.h"
 #include "scene/procedural.h"
 
 namespace lancer {
@@ -136,6 +139,42 @@ TEST(UnlitRender, ShowsItsBaseColourAndLightsNothingByNextEvent) {
   // Seen from its back too (unlit is not emission, which is one-sided).
   const PinholeCamera below = PinholeCamera::look_at({0, 0, -1}, {0, 0, 0}, {0, 1, 0}, 0.5f, 8, 8);
   EXPECT_NEAR(estimate(render(scene, below, 4, nullptr), 1).mean, 0.4, 1e-6);
+}
+
+// A glTF file of one large square in z = 0 facing +z, with `material`, requiring `ext`.
+void write_square_gltf(const gltf_test::json& material, const char* ext, const std::filesystem::path& file) {
+  gltf_test::GltfBuilder b;
+  const int pos = b.add_vec3({{-100, -100, 0}, {100, -100, 0}, {100, 100, 0}, {-100, 100, 0}});
+  const int idx = b.add_indices(std::vector<std::uint16_t>{0, 1, 2, 0, 2, 3});
+  b.push("materials", material);
+  b.single_node_scene(b.add_mesh({{"POSITION", pos}}, 4, idx, 0));
+  b.doc["extensionsUsed"] = {ext};
+  b.doc["extensionsRequired"] = {ext};
+  b.write_data_uri_gltf(file);
+}
+
+class MaterialLayersGltfRender : public gltf_test::GltfTempDir {};
+
+TEST_F(MaterialLayersGltfRender, FilesRequiringTheExtensionsRenderThem) {
+  const gltf_test::json black = {{"baseColorFactor", {0, 0, 0, 1}}, {"metallicFactor", 0.0}};
+  const gltf_test::json no_specular = {{"KHR_materials_specular", {{"specularFactor", 0.0}}}};
+  gltf_test::json coat = {{"pbrMetallicRoughness", black}, {"extensions", no_specular}};
+  coat["extensions"]["KHR_materials_clearcoat"] = {{"clearcoatFactor", 1.0}};
+  write_square_gltf(coat, "KHR_materials_clearcoat", path("coat.gltf"));
+  gltf_test::json sheen = {{"pbrMetallicRoughness", black}, {"extensions", no_specular}};
+  sheen["extensions"]["KHR_materials_sheen"] = {{"sheenColorFactor", {1.0, 0.0, 0.0}}, {"sheenRoughnessFactor", 0.6}};
+  write_square_gltf(sheen, "KHR_materials_sheen", path("sheen.gltf"));
+  write_square_gltf({{"pbrMetallicRoughness", {{"baseColorFactor", {0.2, 0.4, 0.6, 1.0}}}},
+                     {"extensions", {{"KHR_materials_unlit", gltf_test::json::object()}}}},
+                    "KHR_materials_unlit", path("unlit.gltf"));
+
+  const Environment sky(glm::vec3(1.0f));
+  const PinholeCamera down = PinholeCamera::look_at({0, 0, 1}, {0, 0, 0}, {0, 1, 0}, 0.08f, 8, 8);
+  EXPECT_NEAR(estimate(render(read_gltf(path("coat.gltf")), down, 4, &sky), 1).mean, 0.04, 1e-5);
+  const Estimate red = estimate(render(read_gltf(path("sheen.gltf")), oblique(0.3f), 64, &sky), 0);
+  EXPECT_NEAR(red.mean, sheen_albedo(0.3f, 0.6f), 5.0 * red.stderr_ + 0.01 * red.mean);
+  const ImageRGB unlit = render(read_gltf(path("unlit.gltf")), down, 4, nullptr);
+  EXPECT_NEAR(estimate(unlit, 2).mean, 0.6, 1e-6);
 }
 
 }  // namespace

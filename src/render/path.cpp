@@ -298,11 +298,23 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
     }
     L += beta * si.emission * w;
   }
+  // KHR_materials_unlit: the surface shows its base colour towards the viewer (either side,
+  // at full weight: it is no light, so no light sample could have reached it) and scatters
+  // nothing, so the path ends here.
+  if (si.unlit) {
+    L += beta * si.base_color;
+    return false;
+  }
   if (path.bounces >= max_depth_) return false;
   const std::uint32_t leaf = leave();
 
-  const BsdfInputs inputs{si.base_color, si.metallic,       si.roughness,   si.ior,
-                          si.specular,   si.specular_color, si.transmission, si.thin_walled};
+  BsdfInputs inputs{si.base_color, si.metallic,       si.roughness,   si.ior,
+                    si.specular,   si.specular_color, si.transmission, si.thin_walled};
+  inputs.clearcoat = si.clearcoat;
+  inputs.clearcoat_roughness = si.clearcoat_roughness;
+  inputs.clearcoat_normal = si.clearcoat_normal;
+  inputs.sheen_color = si.sheen_color;
+  inputs.sheen_roughness = si.sheen_roughness;
   // si.tangent is unit and orthogonal to si.ns already (evaluate_shading).
   const Bsdf bsdf(inputs, ShadingFrame::from_orthonormal(si.ns, si.tangent), si.front_face);
   const Bsdf::Outgoing wo = bsdf.outgoing(-dir);

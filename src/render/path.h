@@ -9,6 +9,8 @@
 //  - Russian roulette from the fourth bounce on, with survival probability
 //    min(1, sqrt(max throughput component)) (at least 5 %).
 // Emission counts on the front side of a triangle only (the side lights.h samples).
+// KHR_materials_unlit: the path adds beta * baseColor (either side) and ends; an unlit
+// surface is no light (only emissive triangles are sampled), so no MIS weight applies.
 // alphaMode is ignored (every triangle is opaque). The background is black unless an
 // environment is given.
 #pragma once

@@ -112,25 +112,52 @@ ShadingInputs evaluate_shading(const Scene& scene, const Ray& ray, const Hit& hi
   si.attenuation_distance = m.attenuation_distance;
   si.attenuation_color = m.attenuation_color;
 
+  si.unlit = m.unlit;
+  if (m.clearcoat != 0.0f) {
+    si.clearcoat = m.clearcoat * lookup(m.clearcoat_texture, TexelEncoding::Linear).r;
+    si.clearcoat_roughness = m.clearcoat_roughness * lookup(m.clearcoat_roughness_texture, TexelEncoding::Linear).g;
+  }
+  if (m.sheen_color != glm::vec3(0.0f)) {
+    si.sheen_color = m.sheen_color * glm::vec3(lookup(m.sheen_color_texture, TexelEncoding::Srgb));
+    si.sheen_roughness = m.sheen_roughness * lookup(m.sheen_roughness_texture, TexelEncoding::Linear).a;
+  }
+
   const float side = sp.front_face ? 1.0f : -1.0f;
   const glm::vec3 wo = -glm::normalize(ray.dir);
   si.ng = sp.ng;
-  glm::vec3 n = sp.stored_shading_normal();
+  const glm::vec3 stored = sp.stored_shading_normal();
+  // A normal map's normal, built on the front side, where the file's tangents and normal
+  // map live, then flipped with the normals to the ray's side; w of the result's frame
+  // gives the tangent.
+  auto mapped = [&](const TextureRef& map, glm::vec3& tangent) {
+    glm::vec4 frame = normal_map_frame(scene, tri, flags, w, u, v, stored, map);
+    if (frame.w == 0.0f) frame = glm::vec4(any_tangent(stored), 1.0f);
+    const glm::vec3 texel(lookup(map, TexelEncoding::Linear));
+    const glm::vec3 n = face_viewer(side * perturb_normal(stored, frame, texel, map.scale), sp.ng, wo);
+    tangent = glm::vec3(frame);
+    return n;
+  };
   if (!(m.normal_texture.present() && texture_image(scene, m.normal_texture))) {
     // No normal map: the BSDFs are isotropic, so any tangent will do, and the file's
     // tangents or the UV frame need not be computed.
-    si.ns = face_viewer(side * n, sp.ng, wo);
+    si.ns = face_viewer(side * stored, sp.ng, wo);
     si.tangent = any_tangent(si.ns);
-    return si;
+  } else {
+    glm::vec3 t;
+    si.ns = mapped(m.normal_texture, t);
+    si.tangent = orthogonal_tangent(t, si.ns);
   }
-  // The frame is built on the front side, where the file's tangents and normal map
-  // live, then flipped with the normals to the ray's side.
-  glm::vec4 frame = normal_map_frame(scene, tri, flags, w, u, v, n, m.normal_texture);
-  if (frame.w == 0.0f) frame = glm::vec4(any_tangent(n), 1.0f);
-  const glm::vec3 texel(lookup(m.normal_texture, TexelEncoding::Linear));
-  n = perturb_normal(n, frame, texel, m.normal_texture.scale);
-  si.ns = face_viewer(side * n, sp.ng, wo);
-  si.tangent = orthogonal_tangent(glm::vec3(frame), si.ns);
+  // The clearcoat's normal (KHR_materials_clearcoat): its own normal map, else the
+  // interpolated normal, never the base's normal map.
+  si.clearcoat_normal = si.ns;
+  if (si.clearcoat > 0.0f) {
+    if (m.clearcoat_normal_texture.present() && texture_image(scene, m.clearcoat_normal_texture)) {
+      glm::vec3 t;
+      si.clearcoat_normal = mapped(m.clearcoat_normal_texture, t);
+    } else if (m.normal_texture.present()) {
+      si.clearcoat_normal = face_viewer(side * stored, sp.ng, wo);
+    }
+  }
   return si;
 }
 

@@ -11,6 +11,8 @@
 //   specular_color = specularColorFactor * specularColorTexture (sRGB)
 //   thickness = thicknessFactor * G of thicknessTexture
 //   thin_walled = (thicknessFactor == 0), the texture aside (see is_thin_walled)
+//   clearcoat = clearcoatFactor * R, clearcoat_roughness = clearcoatRoughnessFactor * G
+//   sheen_color = sheenColorFactor * sheenColorTexture (sRGB), sheen_roughness = factor * A
 // and an absent texture counts as 1. alpha is the coverage after alphaMode: 1 for
 // OPAQUE, 0 or 1 for MASK (opaque when alpha >= alphaCutoff), the value itself for
 // BLEND. The occlusion texture is ignored: ambient occlusion approximates shadowing
@@ -63,6 +65,15 @@ struct ShadingInputs {
   bool thin_walled = true;  // is_thin_walled(*material)
   float attenuation_distance = 0.0f;  // infinity: no attenuation
   glm::vec3 attenuation_color{1.0f};
+  // KHR_materials_clearcoat: factor * R, roughness factor * G of their textures, and the
+  // coat's normal (its own normal map, else the interpolated normal; on the viewer's side).
+  float clearcoat = 0.0f;
+  float clearcoat_roughness = 0.0f;
+  glm::vec3 clearcoat_normal{0.0f};
+  // KHR_materials_sheen: colour factor * texture RGB (sRGB), roughness factor * texture A.
+  glm::vec3 sheen_color{0.0f};
+  float sheen_roughness = 0.0f;
+  bool unlit = false;  // KHR_materials_unlit: shows base_color, scatters nothing
   bool front_face = true;  // the ray hit the side cross(b - a, c - a) points to
   const Material* material = nullptr;
   std::uint32_t prim = kNoHit;  // the triangle hit

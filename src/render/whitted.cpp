@@ -81,6 +81,7 @@ glm::vec3 WhittedIntegrator::shade_surface(const ShadingInputs& si, const Ray& r
                                            std::uint64_t& rays) const {
   glm::vec3 L(0.0f);
   if (emits_toward(*si.material, si.front_face)) L += si.emission;
+  if (si.unlit) return L + si.base_color;  // KHR_materials_unlit: shows its colour, scatters nothing
   if (is_mirror(si)) {
     if (depth < max_depth_) L += mirror(si, ray, depth, sampler, rays);
     return L;

@@ -15,6 +15,8 @@
 //    straight on;
 //  - Lambert (the remaining weight, BRDF = base colour / pi) lit directly by the punctual
 //    lights (one shadow ray each) and by `light_samples` samples of the emissive triangles.
+// KHR_materials_unlit surfaces show their base colour and stop there. The sheen and clearcoat
+// layers (KHR_materials_sheen / _clearcoat) are ignored here: only the path tracer has them.
 // A surface covers the fraction alpha of its point (glTF alphaMode, render/coverage.h): the
 // rest of the radiance comes from behind it along the same ray, and shadow rays let
 // through 1 - alpha. Secondary rays stop after `max_depth` specular bounces (passing a

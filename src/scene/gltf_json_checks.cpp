@@ -301,10 +301,11 @@ std::uint32_t read_u32(const unsigned char* p) {
 }  // namespace
 
 bool extension_supported(std::string_view name) {
-  static constexpr std::array<std::string_view, 10> kSupported = {
+  static constexpr std::array<std::string_view, 14> kSupported = {
       "KHR_lights_punctual",    "KHR_materials_emissive_strength", "KHR_materials_ior",   "KHR_materials_transmission",
       "KHR_materials_specular", "KHR_texture_transform",           "KHR_materials_volume", "KHR_mesh_quantization",
-      "EXT_mesh_gpu_instancing", "KHR_draco_mesh_compression"};
+      "EXT_mesh_gpu_instancing", "KHR_draco_mesh_compression",     "KHR_materials_clearcoat",
+      "KHR_materials_sheen",    "KHR_materials_unlit",             "KHR_materials_pbrSpecularGlossiness"};
   for (std::string_view s : kSupported)
     if (s == name) return true;
   return false;

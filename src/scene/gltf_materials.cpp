@@ -7,6 +7,7 @@
 #include "scene/gltf_texture_refs.h"
 #include "scene/image_decode.h"
 #include "scene/scene_error.h"
+#include "scene/scene_warning.h"
 
 namespace lancer::gltf {
 
@@ -75,17 +76,78 @@ void require_finite_factors(const ModelRef& m, const Material& out, const std::s
                         out.roughness, emission.r, emission.g, emission.b, out.alpha_cutoff, out.ior,
                         out.transmission, out.specular, out.specular_color.r, out.specular_color.g,
                         out.specular_color.b, out.thickness, out.attenuation_color.r, out.attenuation_color.g,
-                        out.attenuation_color.b})
+                        out.attenuation_color.b, out.clearcoat, out.clearcoat_roughness, out.sheen_color.r,
+                        out.sheen_color.g, out.sheen_color.b, out.sheen_roughness})
     if (!std::isfinite(x)) throw SceneError(m.file, what + ": a factor is beyond the range of float");
   for (const TextureRef* t : {&out.base_color_texture, &out.metallic_roughness_texture, &out.emissive_texture,
                               &out.normal_texture, &out.occlusion_texture, &out.transmission_texture,
-                              &out.specular_texture, &out.specular_color_texture, &out.thickness_texture}) {
+                              &out.specular_texture, &out.specular_color_texture, &out.thickness_texture,
+                              &out.clearcoat_texture, &out.clearcoat_roughness_texture, &out.clearcoat_normal_texture,
+                              &out.sheen_color_texture, &out.sheen_roughness_texture}) {
     bool finite = std::isfinite(t->scale);
     for (int col = 0; col < 3; ++col)
       for (int row = 0; row < 3; ++row) finite = finite && std::isfinite(t->transform[col][row]);
     if (!finite)
       throw SceneError(m.file, what + ": a texture's scale or KHR_texture_transform is beyond the range of float");
   }
+}
+
+// KHR_materials_clearcoat. The clearcoat normal texture keeps its normalTextureInfo scale.
+void read_clearcoat(const ModelRef& m, const tinygltf::Value& ext, const std::string& path, Material& out) {
+  out.clearcoat = extension_number(m, ext, "clearcoatFactor", 0.0f, path);
+  out.clearcoat_texture = extension_texture_ref(m, ext, "clearcoatTexture", path);
+  out.clearcoat_roughness = extension_number(m, ext, "clearcoatRoughnessFactor", 0.0f, path);
+  out.clearcoat_roughness_texture = extension_texture_ref(m, ext, "clearcoatRoughnessTexture", path);
+  out.clearcoat_normal_texture = extension_texture_ref(m, ext, "clearcoatNormalTexture", path);
+  if (out.clearcoat_normal_texture.present())
+    out.clearcoat_normal_texture.scale =
+        extension_number(m, ext.Get("clearcoatNormalTexture"), "scale", 1.0f, path + ".clearcoatNormalTexture");
+}
+
+// KHR_materials_sheen: colour factor linear, colour texture sRGB RGB, roughness texture A.
+void read_sheen(const ModelRef& m, const tinygltf::Value& ext, const std::string& path, Material& out) {
+  out.sheen_color = extension_vec3(m, ext, "sheenColorFactor", glm::vec3(0.0f), path);
+  out.sheen_color_texture = extension_texture_ref(m, ext, "sheenColorTexture", path);
+  out.sheen_roughness = extension_number(m, ext, "sheenRoughnessFactor", 0.0f, path);
+  out.sheen_roughness_texture = extension_texture_ref(m, ext, "sheenRoughnessTexture", path);
+}
+
+glm::vec4 extension_vec4(const ModelRef& m, const tinygltf::Value& ext, const char* key, glm::vec4 fallback,
+                         const std::string& what) {
+  if (!ext.Has(key)) return fallback;
+  const tinygltf::Value& v = ext.Get(key);
+  bool ok = v.IsArray() && v.ArrayLen() == 4;
+  for (int i = 0; ok && i < 4; ++i) ok = v.Get(i).IsNumber();
+  if (!ok) throw SceneError(m.file, "wrong JSON type: " + what + "." + key + " must be an array of 4 numbers");
+  return {float(v.Get(0).GetNumberAsDouble()), float(v.Get(1).GetNumberAsDouble()),
+          float(v.Get(2).GetNumberAsDouble()), float(v.Get(3).GetNumberAsDouble())};
+}
+
+// KHR_materials_pbrSpecularGlossiness (archived), converted to metallic-roughness at load:
+//   baseColor = diffuseFactor (diffuseTexture: baseColorTexture), metallic = 0,
+//   roughness = 1 - glossinessFactor,
+//   KHR_materials_specular: specularColorFactor = specularFactor, specularFactor 1, with
+//   KHR_materials_ior's ior = 0 (dielectric_f0 = 1), so that f0 = specularFactor exactly
+//   (KHR_materials_ior, "ior = 0 ... for specular-glossiness conversions"); then the base's
+//   1 - specular * max(fr) is the extension's diffuse (1 - max(specular)) at normal incidence.
+//   specularGlossinessTexture: its RGB (sRGB) becomes specularColorTexture. Its A (glossiness)
+//   cannot be expressed: roughness = 1 - glossiness * A is not a factor times a texture
+//   channel, so the texture's glossiness is dropped (with a warning) and glossinessFactor
+//   alone sets the roughness.
+void read_specular_glossiness(const ModelRef& m, const tinygltf::Value& ext, const std::string& path,
+                              Material& out) {
+  out.base_color = extension_vec4(m, ext, "diffuseFactor", glm::vec4(1.0f), path);
+  out.base_color_texture = extension_texture_ref(m, ext, "diffuseTexture", path);
+  out.metallic = 0.0f;
+  out.metallic_roughness_texture = {};
+  out.roughness = 1.0f - extension_number(m, ext, "glossinessFactor", 1.0f, path);
+  out.specular = 1.0f;
+  out.specular_color = extension_vec3(m, ext, "specularFactor", glm::vec3(1.0f), path);
+  out.ior = 0.0f;
+  out.specular_color_texture = extension_texture_ref(m, ext, "specularGlossinessTexture", path);
+  if (out.specular_color_texture.present())
+    print_scene_warnings(m.file, path + ".specularGlossinessTexture: its glossiness (alpha) is not converted; "
+                                        "roughness = 1 - glossinessFactor everywhere");
 }
 
 AlphaMode alpha_mode(const ModelRef& m, const std::string& mode, const std::string& what) {
@@ -139,6 +201,13 @@ Material convert_material(const ModelRef& m, int index) {
   }
   if (const auto* ext = extension_object(m, g, "KHR_materials_volume", json_path))
     read_volume(m, *ext, json_path + ".extensions.KHR_materials_volume", out);
+  if (const auto* ext = extension_object(m, g, "KHR_materials_clearcoat", json_path))
+    read_clearcoat(m, *ext, json_path + ".extensions.KHR_materials_clearcoat", out);
+  if (const auto* ext = extension_object(m, g, "KHR_materials_sheen", json_path))
+    read_sheen(m, *ext, json_path + ".extensions.KHR_materials_sheen", out);
+  if (extension_object(m, g, "KHR_materials_unlit", json_path)) out.unlit = true;
+  if (const auto* ext = extension_object(m, g, "KHR_materials_pbrSpecularGlossiness", json_path))
+    read_specular_glossiness(m, *ext, json_path + ".extensions.KHR_materials_pbrSpecularGlossiness", out);
   require_finite_factors(m, out, what);
   return out;
 }

@@ -251,6 +251,21 @@ void add_materials(tinygltf::Model& model, const Scene& scene, const std::string
                                                                         tinygltf::Value(double(m.specular_color.b))});
       extend("KHR_materials_specular", tinygltf::Value(std::move(o)));
     }
+    if (m.clearcoat != 0.0f || m.clearcoat_roughness != 0.0f) {
+      tinygltf::Value::Object o;
+      o["clearcoatFactor"] = tinygltf::Value(double(m.clearcoat));
+      o["clearcoatRoughnessFactor"] = tinygltf::Value(double(m.clearcoat_roughness));
+      extend("KHR_materials_clearcoat", tinygltf::Value(std::move(o)));
+    }
+    if (m.sheen_color != glm::vec3(0.0f) || m.sheen_roughness != 0.0f) {
+      tinygltf::Value::Object o;
+      o["sheenColorFactor"] = tinygltf::Value(tinygltf::Value::Array{tinygltf::Value(double(m.sheen_color.r)),
+                                                                     tinygltf::Value(double(m.sheen_color.g)),
+                                                                     tinygltf::Value(double(m.sheen_color.b))});
+      o["sheenRoughnessFactor"] = tinygltf::Value(double(m.sheen_roughness));
+      extend("KHR_materials_sheen", tinygltf::Value(std::move(o)));
+    }
+    if (m.unlit) extend("KHR_materials_unlit", tinygltf::Value(tinygltf::Value::Object{}));
     model.materials.push_back(std::move(g));
   }
 }

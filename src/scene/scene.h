@@ -65,6 +65,20 @@ struct Material {
   TextureRef thickness_texture;
   float attenuation_distance = std::numeric_limits<float>::infinity();
   glm::vec3 attenuation_color{1.0f};
+  // KHR_materials_clearcoat: layer weight (texture R), perceptual roughness (texture G) and
+  // the coat's own normal map (absent: the interpolated normal, not normal_texture).
+  float clearcoat = 0.0f;
+  TextureRef clearcoat_texture;
+  float clearcoat_roughness = 0.0f;
+  TextureRef clearcoat_roughness_texture;
+  TextureRef clearcoat_normal_texture;
+  // KHR_materials_sheen: linear colour (texture RGB, sRGB) and roughness (texture A, linear).
+  glm::vec3 sheen_color{0.0f};
+  TextureRef sheen_color_texture;
+  float sheen_roughness = 0.0f;
+  TextureRef sheen_roughness_texture;
+  // KHR_materials_unlit: the surface shows its base colour and scatters no light.
+  bool unlit = false;
 
   // Emitted radiance (W / (sr m^2)): glTF's emissive factor times strength, nothing else.
   glm::vec3 emission() const { return emissive_factor * emissive_strength; }
@@ -74,7 +88,8 @@ struct Material {
   bool uses_texcoord(int set) const {
     for (const TextureRef* t : {&base_color_texture, &metallic_roughness_texture, &emissive_texture, &normal_texture,
                                 &occlusion_texture, &transmission_texture, &specular_texture, &specular_color_texture,
-                                &thickness_texture})
+                                &thickness_texture, &clearcoat_texture, &clearcoat_roughness_texture,
+                                &clearcoat_normal_texture, &sheen_color_texture, &sheen_roughness_texture})
       if (t->present() && t->texcoord == set) return true;
     return false;
   }

@@ -12,6 +12,7 @@
 #include <gtest/gtest.h>
 
 #include "accel/brute_force.h"
+#include "render/color.h"
 #include "render/normal_mapping.h"
 #include "render/surface.h"
 #include "render/texture.h"
@@ -143,6 +144,51 @@ TEST(ShadingNormalMap, NormalHidingTheViewerIsBentBack) {
   // The same normal seen from above is left alone.
   const ShadingInputs above = shade(scene, ray_from({0.5f, 0.5f, 2}, {0, 0, -1}));
   expect_vec_near(above.ns, mapped, 1e-6f, "viewer above");
+}
+
+TEST(ShadingNormalMap, ClearcoatNormalIsItsOwnMapNotTheBases) {
+  // KHR_materials_clearcoat: the coat uses clearcoatNormalTexture, else the interpolated
+  // normal, never the base's normalTexture.
+  Scene scene = normal_mapped_quad(upright, nullptr, kTiltedTexel);
+  scene.materials[0].clearcoat = 1.0f;
+  const glm::vec3 tilted = expected_normal(kTiltedTexel, 1.0f, {1, 0, 0}, {0, 1, 0});
+  ShadingInputs si = shade(scene, ray_from({0.3f, 0.6f, 2}, {0, 0, -1}));
+  expect_vec_near(si.ns, tilted, 1e-6f, "base normal map");
+  expect_vec_near(si.clearcoat_normal, {0, 0, 1}, 1e-6f, "coat without its own map");
+  // Swap the maps: the coat leans, the base does not.
+  Material& m = scene.materials[0];
+  m.clearcoat_normal_texture = m.normal_texture;
+  m.normal_texture = TextureRef{};
+  si = shade(scene, ray_from({0.3f, 0.6f, 2}, {0, 0, -1}));
+  expect_vec_near(si.ns, {0, 0, 1}, 1e-6f, "base without a map");
+  expect_vec_near(si.clearcoat_normal, tilted, 1e-6f, "coat with its own map");
+  // Seen from below, both flip to the viewer's side.
+  si = shade(scene, ray_from({0.3f, 0.6f, -2}, {0, 0, 1}));
+  EXPECT_LT(si.clearcoat_normal.z, 0.0f);
+}
+
+TEST(ShadingInputs, LayerFactorsTimesTheirTextureChannels) {
+  Scene scene = normal_mapped_quad(upright, nullptr, kTiltedTexel);
+  Material& m = scene.materials[0];
+  m.normal_texture = TextureRef{};
+  const int tex = test::add_one_texel_texture(scene, 204, 102, 51);  // 0.8, 0.4, 0.2 linear
+  m.clearcoat = 0.5f;
+  m.clearcoat_texture.texture = tex;            // R
+  m.clearcoat_roughness = 0.5f;
+  m.clearcoat_roughness_texture.texture = tex;  // G
+  m.sheen_color = {1.0f, 0.5f, 0.25f};
+  m.sheen_color_texture.texture = tex;  // RGB, sRGB
+  m.sheen_roughness = 0.5f;             // times A = 1 (an RGB image)
+  m.sheen_roughness_texture.texture = tex;
+  m.unlit = true;
+  const ShadingInputs si = shade(scene, ray_from({0.3f, 0.6f, 2}, {0, 0, -1}));
+  EXPECT_NEAR(si.clearcoat, 0.4f, 1e-6f);
+  EXPECT_NEAR(si.clearcoat_roughness, 0.2f, 1e-6f);
+  EXPECT_NEAR(si.sheen_color.r, srgb_to_linear(0.8f), 1e-3f);
+  EXPECT_NEAR(si.sheen_color.g, 0.5f * srgb_to_linear(0.4f), 1e-3f);
+  EXPECT_NEAR(si.sheen_color.b, 0.25f * srgb_to_linear(0.2f), 1e-3f);
+  EXPECT_NEAR(si.sheen_roughness, 0.5f, 1e-6f);
+  EXPECT_TRUE(si.unlit);
 }
 
 TEST(ShadingInputs, WithoutANormalMapTheGeometryIsMakeSurfacePoints) {

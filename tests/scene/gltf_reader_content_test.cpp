@@ -312,13 +312,13 @@ TEST_F(GltfContent, SupportedRequiredExtensionsLoad) {
 
 TEST_F(GltfContent, ExtensionsUsedButUnsupportedAreNamedInAWarning) {
   GltfBuilder b = material_scene();
-  b.doc["extensionsUsed"] = {"KHR_materials_ior", "KHR_materials_clearcoat", "VENDOR_made_up"};
+  b.doc["extensionsUsed"] = {"KHR_materials_ior", "KHR_materials_iridescence", "VENDOR_made_up"};
   b.write_data_uri_gltf(path("used.gltf"));
   testing::internal::CaptureStderr();
   EXPECT_EQ(read_gltf(path("used.gltf")).triangle_count(), 3u);
   const std::string err = testing::internal::GetCapturedStderr();
   const std::string prefix = "lancer: warning: " + path("used.gltf").string() + ": extension ";
-  EXPECT_NE(err.find(prefix + "KHR_materials_clearcoat is not supported: the scene is rendered without it\n"),
+  EXPECT_NE(err.find(prefix + "KHR_materials_iridescence is not supported: the scene is rendered without it\n"),
             std::string::npos)
       << err;
   EXPECT_NE(err.find(prefix + "VENDOR_made_up is not supported"), std::string::npos) << err;

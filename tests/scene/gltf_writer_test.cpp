@@ -66,6 +66,11 @@ void expect_same_materials(const Scene& a, const Scene& b) {
     EXPECT_EQ(x.attenuation_color, y.attenuation_color);
     EXPECT_EQ(x.specular, y.specular);
     EXPECT_EQ(x.specular_color, y.specular_color);
+    EXPECT_EQ(x.clearcoat, y.clearcoat);
+    EXPECT_EQ(x.clearcoat_roughness, y.clearcoat_roughness);
+    EXPECT_EQ(x.sheen_color, y.sheen_color);
+    EXPECT_EQ(x.sheen_roughness, y.sheen_roughness);
+    EXPECT_EQ(x.unlit, y.unlit);
   }
 }
 
@@ -149,9 +154,14 @@ Scene varied_scene() {
   fancy.attenuation_color = {0.5f, 0.75f, 1.0f};
   fancy.specular = 0.5f;
   fancy.specular_color = {0.9f, 0.8f, 0.7f};
+  fancy.clearcoat = 0.75f;
+  fancy.clearcoat_roughness = 0.25f;
+  fancy.sheen_color = {0.5f, 0.25f, 0.125f};
+  fancy.sheen_roughness = 0.375f;
   Material blend;
   blend.name = "blend";
   blend.alpha_mode = AlphaMode::Blend;
+  blend.unlit = true;
   s.materials = {plain, fancy, blend};
   append_uv_sphere(s, {0.0f, 0.0f, 0.0f}, 1.0f, 8, 5, 1, /*smooth_normals=*/true);
   append_uv_sphere(s, {3.0f, 0.0f, 0.0f}, 0.5f, 6, 4, 1, /*smooth_normals=*/false);

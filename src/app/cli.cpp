@@ -47,6 +47,19 @@ void add_render_command(CLI::App& app, RenderOptions& opt) {
   render->add_option("scene", opt.scene, "Scene file (.gltf, .glb or .obj)")->required();
   render->add_option("-o,--output", opt.outputs, "Output image (.exr linear float, .png sRGB); repeatable")
       ->default_str("out/render.exr and out/render.png");
+  render->add_option("--exposure", opt.display.exposure_ev,
+                     "PNG output: exposure in stops, the image times 2^EV before the tone curve (EXR stays linear)")
+      ->check(CLI::Range(-64.0f, 64.0f))
+      ->capture_default_str();
+  render->add_option_function<std::string>(
+            "--tone",
+            [&opt](const std::string& name) {
+              if (!parse_tone_curve(name, opt.display.curve)) throw CLI::ValidationError("--tone", "unknown curve");
+            },
+            "PNG output tone curve: neutral (Khronos PBR Neutral: colours kept up to 0.76, highlights rolled off) or "
+            "clamp (exact up to 1, white above)")
+      ->check(CLI::IsMember({"neutral", "clamp"}))
+      ->default_str("neutral");
   RenderSettings& s = opt.settings;
   render->add_option("--width", s.width, "Image width in pixels")->check(CLI::Range(1, 16384))->capture_default_str();
   render->add_option_function<int>(

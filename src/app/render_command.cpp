@@ -138,7 +138,7 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
       if (!parent.empty()) std::filesystem::create_directories(parent);
     }
     auto write_outputs = [&](const ImageRGB& image) {
-      for (const auto& o : opt.outputs) write_image(image, o);
+      for (const auto& o : opt.outputs) write_image(image, o, opt.display);
     };
 
     const InterruptGuard interrupt;

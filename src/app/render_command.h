@@ -10,6 +10,7 @@
 
 #include "accel/kd_build.h"
 #include "simd/isa.h"
+#include "render/display.h"
 #include "render/render_settings.h"
 #include "scene/scene.h"
 
@@ -18,6 +19,7 @@ namespace lancer {
 struct RenderOptions {
   std::string scene;
   std::vector<std::string> outputs;  // by extension: .exr, .png
+  DisplayTransform display{0.0f, ToneCurve::Neutral};  // --exposure, --tone (PNG only)
   RenderSettings settings;
   bool height_given = false;
   std::string accel = "kdtree";

@@ -372,9 +372,12 @@ ImageRGB decode_with_stb(const std::string& bytes, const fs::path& file, Format 
   return image;
 }
 
-std::string encode_png(const ImageRGB& image, const fs::path& file) {
+std::string encode_png(const ImageRGB& image, const fs::path& file, const DisplayTransform& display) {
   std::vector<std::uint8_t> codes(image.rgb.size());
-  std::transform(image.rgb.begin(), image.rgb.end(), codes.begin(), linear_to_srgb8);
+  for (std::size_t i = 0; i + 2 < image.rgb.size(); i += 3) {
+    const glm::vec3 c = display_map({image.rgb[i], image.rgb[i + 1], image.rgb[i + 2]}, display);
+    for (int k = 0; k < 3; ++k) codes[i + std::size_t(k)] = linear_to_srgb8(c[k]);
+  }
   std::string bytes;
   auto append = [](void* context, void* data, int size) {
     static_cast<std::string*>(context)->append(static_cast<const char*>(data), static_cast<std::size_t>(size));
@@ -386,7 +389,7 @@ std::string encode_png(const ImageRGB& image, const fs::path& file) {
 
 }  // namespace
 
-void write_image(const ImageRGB& image, const std::filesystem::path& file) {
+void write_image(const ImageRGB& image, const std::filesystem::path& file, const DisplayTransform& display) {
   const Format format = format_from_extension(file);
   if (format != Format::kExr && format != Format::kPng)
     throw ImageError(file, "writing " + file.extension().string() + " files is not supported (use .exr or .png)");
@@ -395,7 +398,7 @@ void write_image(const ImageRGB& image, const std::filesystem::path& file) {
     throw ImageError(file, "image holds " + std::to_string(image.rgb.size()) + " floats, expected width*height*3");
   std::string bytes;
   try {
-    bytes = format == Format::kExr ? encode_exr(image, file) : encode_png(image, file);
+    bytes = format == Format::kExr ? encode_exr(image, file) : encode_png(image, file, display);
   } catch (const ImageError&) {
     throw;
   } catch (const std::bad_alloc& e) {

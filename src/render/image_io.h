@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "render/display.h"
 #include "render/image.h"
 
 namespace lancer {
@@ -33,7 +34,9 @@ inline constexpr std::uint64_t kMaxImagePixels = std::uint64_t{1} << 28;
 // are (NaN and infinities included: use count_non_finite to warn); PNG clamps to
 // [0, 1] with NaN written as 0. Throws ImageError on an unknown extension, an
 // inconsistent image, or any OS or encoder failure (with the OS reason).
-void write_image(const ImageRGB& image, const std::filesystem::path& file);
+// `display` (exposure and tone curve, render/display.h) shapes PNG output only; the
+// default is the identity, clamped.
+void write_image(const ImageRGB& image, const std::filesystem::path& file, const DisplayTransform& display = {});
 
 // Reads `file` as linear RGB. EXR: channels R, G, B of any pixel type, or a lone Y
 // channel as grey; the data window becomes the image. PNG/JPEG: decoded from sRGB.

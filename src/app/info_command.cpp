@@ -33,6 +33,11 @@ int run_info(const InfoOptions& opt, std::ostream& out, std::ostream& err) {
     std::snprintf(line, sizeof line, "bounds:     (%g, %g, %g) - (%g, %g, %g)\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x,
                   b.hi.y, b.hi.z);
     out << line;
+    // What the reader warned about: what the file uses that the render will ignore.
+    out << "warnings:   " << scene.warnings.size() << (scene.warnings.empty() ? "\n" : " (ignored or changed)\n");
+    constexpr std::size_t kListed = 20;
+    for (std::size_t i = 0; i < scene.warnings.size() && i < kListed; ++i) out << "  - " << scene.warnings[i] << "\n";
+    if (scene.warnings.size() > kListed) out << "  ... and " << scene.warnings.size() - kListed << " more\n";
 
     const auto t0 = std::chrono::steady_clock::now();
     const std::unique_ptr<Accelerator> accel =

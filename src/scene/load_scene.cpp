@@ -7,6 +7,7 @@
 #include "scene/gltf_reader.h"
 #include "scene/obj_reader.h"
 #include "scene/scene_error.h"
+#include "scene/scene_warning.h"
 #include "simd/release_free_memory.h"
 
 namespace lancer {
@@ -19,6 +20,7 @@ Scene load_scene(const std::filesystem::path& path, std::optional<int> gltf_scen
 
   std::string ext = path.extension().string();
   std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  SceneWarningLog warnings;
   Scene scene;
   if (ext == ".gltf" || ext == ".glb") {
     scene = read_gltf(path, gltf_scene.value_or(-1));
@@ -29,6 +31,7 @@ Scene load_scene(const std::filesystem::path& path, std::optional<int> gltf_scen
     throw SceneError(file, "unknown scene format '" + ext + "' (expected .gltf, .glb or .obj)");
   }
   if (scene.triangle_count() == 0) throw SceneError(file, "the scene has no triangles");
+  scene.warnings = warnings.take();
   release_free_memory();  // the reader's freed copies (file, decoded accessors), before the build
   return scene;
 }

@@ -166,6 +166,9 @@ enum TriangleAttrib : std::uint8_t {
 
 struct Scene {
   std::string source;  // file it came from, or the procedural scene's name
+  // What the reader warned about while loading (load_scene), one line each, without the
+  // "lancer: warning: FILE: " prefix: mostly what the file uses that Lancer ignores.
+  std::vector<std::string> warnings;
 
   // Geometry. Triangle i has corners 3i, 3i+1, 3i+2 in the per-corner arrays below.
   TriangleSoA triangles;

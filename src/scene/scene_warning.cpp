@@ -5,6 +5,13 @@
 
 namespace lancer {
 
+namespace {
+thread_local SceneWarningLog* active_log = nullptr;
+}  // namespace
+
+SceneWarningLog::SceneWarningLog() : outer_(active_log) { active_log = this; }
+SceneWarningLog::~SceneWarningLog() { active_log = outer_; }
+
 void print_scene_warnings(const std::string& file, const std::string& text) {
   std::istringstream lines(text);
   std::string line;
@@ -12,7 +19,9 @@ void print_scene_warnings(const std::string& file, const std::string& text) {
     const auto first = line.find_first_not_of(" \t\r\n");
     if (first == std::string::npos) continue;
     const auto last = line.find_last_not_of(" \t\r\n");
-    std::cerr << "lancer: warning: " << file << ": " << line.substr(first, last - first + 1) << '\n';
+    const std::string what = line.substr(first, last - first + 1);
+    std::cerr << "lancer: warning: " << file << ": " << what << '\n';
+    if (active_log != nullptr) active_log->lines_.push_back(what);
   }
 }
 

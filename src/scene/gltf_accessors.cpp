@@ -376,6 +376,33 @@ std::vector<glm::vec4> read_weights(const ModelRef& m, int accessor, const std::
       {TINYGLTF_TYPE_VEC4, 4, "VEC4 of FLOAT or of normalized UNSIGNED_BYTE/UNSIGNED_SHORT", texcoord_types});
 }
 
+namespace {
+bool animation_weight_types(int component_type, bool normalized) {
+  return component_type == kFloat || (normalized && integer_component(component_type));
+}
+std::vector<float> first_components(const std::vector<glm::vec<1, float>>& v) {
+  std::vector<float> out(v.size());
+  for (std::size_t k = 0; k < v.size(); ++k) out[k] = v[k].x;
+  return out;
+}
+}  // namespace
+
+std::vector<float> read_animation_times(const ModelRef& m, int accessor, const std::string& what) {
+  return first_components(
+      read_float_vectors<1>(m, accessor, what, {TINYGLTF_TYPE_SCALAR, 1, "SCALAR of FLOAT", float_only}));
+}
+
+std::vector<glm::vec3> read_animation_vec3(const ModelRef& m, int accessor, const std::string& what) {
+  return read_float_vectors<3>(m, accessor, what, {TINYGLTF_TYPE_VEC3, 3, "VEC3 of FLOAT", float_only});
+}
+
+std::vector<float> read_animation_weights(const ModelRef& m, int accessor, const std::string& what) {
+  return first_components(read_float_vectors<1>(
+      m, accessor, what,
+      {TINYGLTF_TYPE_SCALAR, 1, "SCALAR of FLOAT or of normalized BYTE/UNSIGNED_BYTE/SHORT/UNSIGNED_SHORT",
+       animation_weight_types}));
+}
+
 std::vector<glm::mat4> read_mat4_floats(const ModelRef& m, int accessor, const std::string& what) {
   const Layout l = layout_of(m, accessor, what, {TINYGLTF_TYPE_MAT4, 16, "MAT4 of FLOAT", float_only});
   std::vector<glm::mat4> out(l.count, glm::mat4(0.0f));

@@ -54,6 +54,12 @@ std::vector<glm::vec4> read_rotations(const ModelRef& m, int accessor, const std
 std::vector<glm::uvec4> read_joints(const ModelRef& m, int accessor, const std::string& what);
 std::vector<glm::vec4> read_weights(const ModelRef& m, int accessor, const std::string& what);
 std::vector<glm::mat4> read_mat4_floats(const ModelRef& m, int accessor, const std::string& what);
+// Animation samplers (glTF 2.0, "Animations"): input times SCALAR of FLOAT; translation
+// and scale outputs VEC3 of FLOAT (rotations: read_rotations); morph weights SCALAR of
+// FLOAT or of normalized BYTE, UNSIGNED_BYTE, SHORT or UNSIGNED_SHORT.
+std::vector<float> read_animation_times(const ModelRef& m, int accessor, const std::string& what);
+std::vector<glm::vec3> read_animation_vec3(const ModelRef& m, int accessor, const std::string& what);
+std::vector<float> read_animation_weights(const ModelRef& m, int accessor, const std::string& what);
 // COLOR_0: VEC3 or VEC4 of FLOAT or of normalized UNSIGNED_BYTE/UNSIGNED_SHORT, as linear
 // RGBA (alpha 1 for VEC3). A non-finite float is an error; floats outside [0, 1] are
 // clamped to it (the range the specification gives colours).

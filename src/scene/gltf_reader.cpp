@@ -19,6 +19,7 @@
 #include <span>
 #include <system_error>
 
+#include "scene/gltf_animation.h"
 #include "scene/gltf_draco.h"
 #include "scene/gltf_instancing.h"
 #include "scene/gltf_json_checks.h"
@@ -327,13 +328,16 @@ Scene scene_from_model(const tinygltf::Model& model, const std::string& file, in
 Scene read_gltf(const std::filesystem::path& path, int scene) {
   const std::string file = path.string();
   // The file's bytes are freed once parsed: tinygltf keeps its own copy of the buffers.
-  const tinygltf::Model model = load_model(read_whole_file(path, file), path, file);
+  tinygltf::Model model = load_model(read_whole_file(path, file), path, file);
+  gltf::pose_at_first_frame(model, file);
   return scene_from_model(model, file, scene);
 }
 
 Scene read_gltf_bytes(std::span<const unsigned char> bytes, const std::filesystem::path& path, int scene) {
   const std::string file = path.string();
-  return scene_from_model(load_model(bytes, path, file), file, scene);
+  tinygltf::Model model = load_model(bytes, path, file);
+  gltf::pose_at_first_frame(model, file);
+  return scene_from_model(model, file, scene);
 }
 
 }  // namespace lancer

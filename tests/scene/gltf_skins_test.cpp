@@ -2,6 +2,7 @@
 // strip whose second joint turns 90 degrees bends 90 degrees, the skinned node's own
 // transform is ignored, morph weights (node over mesh) move the vertices, and malformed
 // skins are refused with a message.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -155,6 +156,54 @@ TEST_F(GltfSkins, MorphWeightsMoveTheVerticesNodeWeightsFirst) {
   EXPECT_NEAR(third_vertex_z(load(b)), 0.75f, 1e-6f) << "the node's weight overrides the mesh's";
   b.doc["nodes"][0]["weights"] = {0.5, 0.5};
   expect_error(b, "has 1 morph targets but 2 weights are given");
+}
+
+// Animation 0 at its first keyframe poses the nodes (scene/gltf_animation.h). `values`
+// are the sampler's output floats, `type` their accessor type.
+void animate(GltfBuilder& b, int node, const char* path, const std::vector<float>& times,
+             const std::vector<float>& values, const char* type, const char* interpolation) {
+  const int input = b.add_floats(std::vector<glm::vec<1, float>>(times.begin(), times.end()), "SCALAR");
+  const int width = std::string(type) == "VEC4" ? 4 : std::string(type) == "VEC3" ? 3 : 1;
+  const int output = b.add_accessor(b.add_view(values.data(), values.size() * sizeof(float)), GltfBuilder::kFloat,
+                                    values.size() / std::size_t(width), type);
+  b.doc["animations"] = json::array(
+      {{{"samplers", {{{"input", input}, {"output", output}, {"interpolation", interpolation}}}},
+        {"channels", {{{"sampler", 0}, {"target", {{"node", node}, {"path", path}}}}}}}});
+}
+
+float highest_y(const Scene& s) {
+  float hi = -1e30f;
+  for (std::uint32_t t = 0; t < s.triangle_count(); ++t)
+    for (int c = 0; c < 3; ++c) hi = std::max(hi, s.triangles.vertex(t, c).y);
+  return hi;
+}
+
+TEST_F(GltfSkins, FirstAnimationFramePosesTheJoints) {
+  // The strip's second joint (node 0) straight at rest; animation 0 starts it at 90
+  // degrees about z and ends straight: the still shows the bend, for each interpolation.
+  const float s = std::sqrt(0.5f);
+  GltfBuilder b = two_bone_strip();
+  b.doc["nodes"][0]["rotation"] = {0.0, 0.0, 0.0, 1.0};
+  EXPECT_NEAR(highest_y(load(b)), 0.1f, 1e-6f) << "the rest pose is straight";
+  animate(b, 0, "rotation", {0.5f, 2.0f}, {0, 0, s, s, 0, 0, 0, 1}, "VEC4", "LINEAR");
+  EXPECT_NEAR(highest_y(load(b)), 1.0f, 1e-6f) << "LINEAR: keyframe 0";
+  animate(b, 0, "rotation", {0.5f, 2.0f}, {0, 0, 0, 1, 0, 0, s, s, 0, 0, 0, 1, /**/ 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1},
+          "VEC4", "CUBICSPLINE");
+  EXPECT_NEAR(highest_y(load(b)), 1.0f, 1e-6f) << "CUBICSPLINE: keyframe 0's value, between its tangents";
+  animate(b, 0, "rotation", {0.5f, 2.0f}, {0, 0, s, s}, "VEC4", "STEP");
+  expect_error(b, "the output has 1 elements, expected 2");
+}
+
+TEST_F(GltfSkins, FirstAnimationFrameSetsMorphWeightsAndTranslations) {
+  GltfBuilder b = morphing_triangle();
+  animate(b, 0, "weights", {0.0f, 1.0f}, {0.6f, 0.1f}, "SCALAR", "LINEAR");
+  EXPECT_NEAR(third_vertex_z(load(b)), 0.6f, 1e-6f) << "the animation's first weight over the mesh's";
+  animate(b, 0, "translation", {0.0f, 1.0f}, {0, 3, 0, 0, 9, 0}, "VEC3", "LINEAR");
+  EXPECT_NEAR(highest_y(load(b)), 4.0f, 1e-5f) << "moved up by 3";
+  b.doc["nodes"][0]["matrix"] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1};
+  testing::internal::CaptureStderr();
+  EXPECT_NEAR(highest_y(load(b)), 1.0f, 1e-5f) << "a node with a matrix is not animated";
+  EXPECT_NE(testing::internal::GetCapturedStderr().find("which has a matrix"), std::string::npos);
 }
 
 }  // namespace

@@ -1,0 +1,97 @@
+#include "scene/gltf_animation.h"
+
+#include <tiny_gltf.h>
+
+#include <cstddef>
+#include <vector>
+
+#include "scene/gltf_accessors.h"
+#include "scene/scene_error.h"
+#include "scene/scene_warning.h"
+
+namespace lancer::gltf {
+
+namespace {
+
+struct NodePose {
+  int node = -1;
+  std::string path;
+  std::vector<double> values;
+};
+
+// The value channel `c` of animation 0 gives its node at the first keyframe.
+NodePose first_frame(const ModelRef& m, const tinygltf::Animation& a, std::size_t c) {
+  const tinygltf::AnimationChannel& ch = a.channels[c];
+  const std::string what = "animation 0 channel " + std::to_string(c);
+  NodePose pose;
+  pose.node = ch.target_node;
+  pose.path = ch.target_path;
+  if (ch.sampler < 0 || std::size_t(ch.sampler) >= a.samplers.size())
+    throw SceneError(m.file, what + ": sampler index " + std::to_string(ch.sampler) + " out of range");
+  const tinygltf::AnimationSampler& s = a.samplers[std::size_t(ch.sampler)];
+  const bool cubic = s.interpolation == "CUBICSPLINE";
+  if (!cubic && s.interpolation != "LINEAR" && s.interpolation != "STEP")
+    throw SceneError(m.file, what + ": unknown interpolation '" + s.interpolation + "'");
+  const std::size_t keys = read_animation_times(m, s.input, what + " input").size();
+  if (keys == 0) throw SceneError(m.file, what + ": the sampler has no keyframes");
+  const std::size_t per_key = cubic ? 3 : 1;  // CUBICSPLINE: in-tangent, value, out-tangent
+  auto check_count = [&](std::size_t outputs, std::size_t width) {
+    if (outputs != keys * per_key * width)
+      throw SceneError(m.file, what + ": the output has " + std::to_string(outputs) + " elements, expected " +
+                                   std::to_string(keys * per_key * width) + " for " + std::to_string(keys) +
+                                   " keyframe(s)");
+  };
+  const std::size_t first = cubic ? 1 : 0;  // element of keyframe 0's value
+  if (pose.path == "translation" || pose.path == "scale") {
+    const std::vector<glm::vec3> out = read_animation_vec3(m, s.output, what + " output");
+    check_count(out.size(), 1);
+    pose.values = {out[first].x, out[first].y, out[first].z};
+  } else if (pose.path == "rotation") {
+    const std::vector<glm::vec4> out = read_rotations(m, s.output, what + " output");
+    check_count(out.size(), 1);
+    pose.values = {out[first].x, out[first].y, out[first].z, out[first].w};
+  } else if (pose.path == "weights") {
+    const std::vector<float> out = read_animation_weights(m, s.output, what + " output");
+    const std::size_t targets = out.size() / (keys * per_key);
+    check_count(out.size(), targets);
+    pose.values.assign(out.begin() + std::ptrdiff_t(first * targets), out.begin() + std::ptrdiff_t((first + 1) * targets));
+  } else {
+    pose.path.clear();  // "pointer" (KHR_animation_pointer) and others: not a node's pose
+  }
+  return pose;
+}
+
+}  // namespace
+
+void pose_at_first_frame(tinygltf::Model& model, const std::string& file) {
+  if (model.animations.empty()) return;
+  const ModelRef m{model, file};
+  const tinygltf::Animation& a = model.animations[0];
+  if (model.animations.size() > 1)
+    print_scene_warnings(file, std::to_string(model.animations.size() - 1) +
+                                   " animation(s) after the first ignored: the scene is posed at the first frame of "
+                                   "animation 0");
+  // Read every channel before changing any node.
+  std::vector<NodePose> poses;
+  for (std::size_t c = 0; c < a.channels.size(); ++c) poses.push_back(first_frame(m, a, c));
+  for (std::size_t c = 0; c < poses.size(); ++c) {
+    const NodePose& p = poses[c];
+    if (p.path.empty()) continue;
+    if (p.node < 0 || std::size_t(p.node) >= model.nodes.size())
+      throw SceneError(file, "animation 0 channel " + std::to_string(c) + ": target node " + std::to_string(p.node) +
+                                 " out of range (the file has " + std::to_string(model.nodes.size()) + " nodes)");
+    tinygltf::Node& node = model.nodes[std::size_t(p.node)];
+    if (p.path == "weights") {
+      node.weights = p.values;
+      continue;
+    }
+    if (!node.matrix.empty()) {
+      print_scene_warnings(file, "animation 0 channel " + std::to_string(c) + " animates node " +
+                                     std::to_string(p.node) + ", which has a matrix (glTF forbids it): channel ignored");
+      continue;
+    }
+    (p.path == "translation" ? node.translation : p.path == "rotation" ? node.rotation : node.scale) = p.values;
+  }
+}
+
+}  // namespace lancer::gltf

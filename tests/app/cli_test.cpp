@@ -3,6 +3,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <cstring>
@@ -10,6 +11,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "render/image_io.h"
@@ -238,6 +240,49 @@ TEST(Cli, InfoDescribesTheScene) {
                            "triangles / leaf:", "SAH cost:", "bytes / triangle:", "build time:",
                            "peak memory:"})
     EXPECT_NE(r.out.find(stat), std::string::npos) << stat;
+}
+
+TEST(Cli, InfoListsWhatTheReaderIgnored) {
+  const fs::path obj = temp_dir() / "odd.obj";
+  {
+    std::ofstream f(obj);
+    f << "v 0 0 0\nv 1 0 0\nv 0 1 0\nfrobnicate 1 2 3\nf 1 2 3\n";
+  }
+  const CliResult r = run({"info", obj.string()});
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("warnings:   1"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("  - ignored 1"), std::string::npos) << r.out;
+  const CliResult clean = run({"info", cornell()});
+  EXPECT_NE(clean.out.find("warnings:   0"), std::string::npos) << clean.out;
+}
+
+TEST(Cli, ExposureAndToneCurveShapeThePngNotTheExr) {
+  const fs::path dir = temp_dir();
+  auto render_to = [&](const std::vector<std::string>& extra, const std::string& stem) {
+    std::vector<std::string> args = {"render", cornell(), "--width", "16", "--spp", "4", "--no-progress",
+                                     "-o", (dir / (stem + ".exr")).string(), "-o", (dir / (stem + ".png")).string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    const CliResult r = run(args);
+    EXPECT_EQ(r.code, 0) << r.err;
+    return std::pair{read_image(dir / (stem + ".exr")), read_image(dir / (stem + ".png"))};
+  };
+  const auto [exr, png] = render_to({"--exposure", "1", "--tone", "clamp"}, "clamp");
+  const auto [exr_neutral, png_neutral] = render_to({}, "neutral");
+  EXPECT_EQ(exr.rgb, exr_neutral.rgb) << "EXR output is linear radiance whatever the display settings";
+  double brightest = 0.0;
+  for (std::size_t i = 0; i < exr.rgb.size(); i += 3) {
+    const glm::vec3 linear(exr.rgb[i], exr.rgb[i + 1], exr.rgb[i + 2]);
+    brightest = std::max(brightest, double(linear.r));
+    const glm::vec3 clamped = display_map(linear, {1.0f, ToneCurve::Clamp});
+    const glm::vec3 neutral = display_map(linear, {0.0f, ToneCurve::Neutral});
+    for (int c = 0; c < 3; ++c) {
+      // 8-bit sRGB codes: within half a code step, a relative 1/255 at worst near white.
+      EXPECT_NEAR(png.rgb[i + std::size_t(c)], clamped[c], 0.01f + 0.02f * clamped[c]) << i;
+      EXPECT_NEAR(png_neutral.rgb[i + std::size_t(c)], neutral[c], 0.01f + 0.02f * neutral[c]) << i;
+    }
+  }
+  EXPECT_GT(brightest, 1.0) << "the light is in view: the curves differ there";
+  EXPECT_EQ(run({"render", cornell(), "--tone", "filmic", "-o", (dir / "x.png").string()}).code, 2);
 }
 
 // The real binary: exit codes reach the shell and output goes to the right streams.

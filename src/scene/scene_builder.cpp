@@ -61,13 +61,15 @@ bool SceneBuilder::add_triangle(const glm::vec3 p[3], std::uint32_t material, st
     glm::vec3 n[3];
     bool all_valid = true;
     for (int k = 0; k < 3; ++k) {
-      n[k] = attribs.normals[k];
-      const float len = glm::length(n[k]);
-      if (!(len > 0.0f) || !std::isfinite(len)) {
+      // In double: a float normal of tiny components (1e-20) squares to denormals, and its
+      // float length would be too far off to make it unit.
+      const glm::dvec3 d(attribs.normals[k]);
+      const double len = glm::length(d);
+      if (!(len > 0.0) || !std::isfinite(len)) {
         ++scene_.stats.zero_normals_repaired;
         all_valid = false;
       } else {
-        n[k] /= len;
+        n[k] = glm::vec3(d / len);
       }
     }
     // A triangle with an unusable corner normal keeps none (zeros, flag clear: shading

@@ -2,6 +2,7 @@
 // line up with the triangles; finished arrays keep no spare capacity.
 #include "scene/scene_builder.h"
 
+#include <glm/geometric.hpp>
 #include <gtest/gtest.h>
 
 namespace lancer {
@@ -45,6 +46,22 @@ TEST(SceneBuilder, ALateAttributePadsTheEarlierCornersWithZeros) {
   EXPECT_EQ(scene.texcoords[9], glm::vec2(0.25f, 0.5f));
   EXPECT_TRUE(scene.tangents.empty());
   EXPECT_EQ(scene.attrib_flags, (std::vector<std::uint8_t>{0, 0, kHasNormals, kHasTexcoords}));
+}
+
+TEST(SceneBuilder, TinyAndHugeNormalsComeOutUnitLength) {
+  // Components whose squares are float denormals (1e-20) or overflow (1e30): the length
+  // is taken in double, so the normals still come out unit (a fuzzed Draco file had them).
+  Scene scene;
+  SceneBuilder builder(scene, "test");
+  const glm::vec3 normals[3] = {{1e-20f, 2e-20f, 2e-20f}, {0, 3e-23f, 4e-23f}, {1e30f, 0, 1e30f}};
+  CornerAttributes attribs;
+  attribs.normals = normals;
+  ASSERT_TRUE(builder.add_triangle(kCorners, 0, 0, attribs));
+  builder.finish();
+  ASSERT_EQ(scene.normals.size(), 3u);
+  EXPECT_EQ(scene.attrib_flags[0], kHasNormals);
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(glm::length(scene.normals[c]), 1.0f, 1e-6f) << "corner " << c;
+  EXPECT_NEAR(scene.normals[0].x, 1.0f / 3.0f, 1e-6f);
 }
 
 TEST(SceneBuilder, FinishedArraysKeepNoSpareCapacity) {

@@ -40,8 +40,12 @@ void expect_valid_scene(const Scene& scene, std::size_t max_triangles, const std
   }
   ASSERT_TRUE(scene.normals.empty() || scene.normals.size() == 3 * n) << where;
   ASSERT_TRUE(scene.texcoords.empty() || scene.texcoords.size() == 3 * n) << where;
-  if (any_normals) ASSERT_EQ(scene.normals.size(), 3 * n) << where;
-  if (any_texcoords) ASSERT_EQ(scene.texcoords.size(), 3 * n) << where;
+  if (any_normals) {
+    ASSERT_EQ(scene.normals.size(), 3 * n) << where;
+  }
+  if (any_texcoords) {
+    ASSERT_EQ(scene.texcoords.size(), 3 * n) << where;
+  }
   for (std::size_t i = 0; i < n; ++i) {
     for (int k = 0; k < 3; ++k) ASSERT_TRUE(finite(scene.triangles.vertex(i, k))) << where << ", triangle " << i;
     ASSERT_LT(scene.material_id[i], scene.materials.size()) << where << ", triangle " << i;

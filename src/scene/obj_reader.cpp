@@ -6,6 +6,7 @@
 #include "scene/obj_reader.h"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <fstream>
 #include <iterator>
@@ -122,10 +123,16 @@ class FanTriangulator {
     const tinyobj::index_t* corner[3] = {&a, &b, &c};
     glm::vec3 p[3], n[3];
     glm::vec2 uv[3];
+    glm::vec4 rgba[3];
     bool has_normals = true, has_texcoords = true;
+    // tinyobjloader keeps the colours ("v x y z r g b") only when every vertex has one.
+    const bool has_colors = !attrib_.colors.empty() && attrib_.colors.size() == attrib_.vertices.size();
     for (int k = 0; k < 3; ++k) {
       const std::size_t v = checked(corner[k]->vertex_index, attrib_.vertices.size() / 3, "vertex", source_id);
       p[k] = {attrib_.vertices[3 * v], attrib_.vertices[3 * v + 1], attrib_.vertices[3 * v + 2]};
+      if (has_colors)
+        rgba[k] = glm::vec4(vertex_color(attrib_.colors[3 * v]), vertex_color(attrib_.colors[3 * v + 1]),
+                            vertex_color(attrib_.colors[3 * v + 2]), 1.0f);
       if (corner[k]->normal_index < 0) {
         has_normals = false;
       } else {
@@ -143,7 +150,18 @@ class FanTriangulator {
     CornerAttributes attribs;
     attribs.normals = has_normals ? n : nullptr;
     attribs.texcoords = has_texcoords ? uv : nullptr;
+    attribs.colors = has_colors ? rgba : nullptr;
     builder_.add_triangle(p, material, source_id, attribs);
+  }
+
+  // OBJ's vertex colour extension has no colour space of its own; the files that carry it
+  // (scanners, MeshLab) write 8-bit display colours over 255, i.e. sRGB, which is how
+  // Blender's importer reads them too. Decoded to linear (IEC 61966-2-1), clamped to
+  // [0, 1] as glTF's COLOR_0 is; not a number is an error.
+  float vertex_color(float encoded) const {
+    if (std::isnan(encoded)) throw SceneError(file_, "a vertex colour is not a number");
+    const float c = std::clamp(encoded, 0.0f, 1.0f);
+    return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
   }
 
   std::size_t checked(int index, std::size_t count, const char* what, std::uint32_t source_id) const {

@@ -52,6 +52,19 @@ TEST_F(ObjReader, OneTriangleExactPositions) {
   EXPECT_TRUE(scene.texcoords.empty()) << "no vt: no texture coordinates stored";
 }
 
+TEST_F(ObjReader, VertexColoursAreSrgbDecodedAndNeedEveryVertex) {
+  const Scene scene = read_obj(write("rgb.obj", "v 0 0 0 1 0 0\nv 1 0 0 0 0.5 0\nv 0 1 0 0 0 2\nf 1 2 3\n"));
+  ASSERT_EQ(scene.colors.size(), 3u);
+  EXPECT_EQ(scene.attrib_flags, std::vector<std::uint8_t>{kHasColors});
+  EXPECT_EQ(scene.colors[0], glm::vec4(1, 0, 0, 1));
+  EXPECT_NEAR(scene.colors[1].g, 0.2140411f, 1e-6f) << "sRGB 0.5 is linear 0.214";
+  EXPECT_EQ(scene.colors[2], glm::vec4(0, 0, 1, 1)) << "clamped to [0, 1]";
+  // One vertex without a colour: no colours at all (white, as glTF without COLOR_0).
+  const Scene some = read_obj(write("some.obj", "v 0 0 0 1 0 0\nv 1 0 0\nv 0 1 0 0 0 1\nf 1 2 3\n"));
+  EXPECT_TRUE(some.colors.empty());
+  EXPECT_EQ(some.attrib_flags, std::vector<std::uint8_t>{0});
+}
+
 TEST_F(ObjReader, QuadAndPentagonAreFannedInFileOrder) {
   // A triangle, a quad in group "a" and a pentagon in object "b": ids run through all of them.
   const auto path = write("fan.obj",

@@ -94,6 +94,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "render/bsdf_base_lobes.h"
 #include "render/fresnel.h"
 #include "render/microfacet.h"
 
@@ -157,9 +158,9 @@ struct BsdfEval {
 
 // The glTF metallic-roughness base layer (everything above): the material under the
 // KHR_materials_sheen and KHR_materials_clearcoat layers that Bsdf (bsdf.h) stacks on it.
-// Its lobes share one Fresnel factor per direction pair (fresnel_mix weights the diffuse
-// and transmitted base by 1 - specular * max(fr) at each pair's half vector), so they stay
-// together in this one type.
+// Its lobes are types of their own (bsdf_base_lobes.h: diffuse, reflection, thin-wall
+// transmission, refraction) sharing one BaseFresnel; this type chooses among them, splits
+// the interface between reflection and transmission, and forms the mixture's density.
 class BaseBsdf {
  private:
   // Probabilities of the two sampling lobes for a given wo (local, wo.z > 0): the interface
@@ -179,9 +180,7 @@ class BaseBsdf {
     glm::vec3 lo{0.0f};  // local, mirrored so that lo.z > 0
     bool flipped = false;  // wo was below the shading frame's tangent plane
     bool valid = false;    // false when wo lies in the tangent plane (or is NaN): nothing scatters
-    float lambda_o = 0.0f;  // Smith Lambda(lo), for rough lobes
-    float g1_o = 0.0f;      // Smith G1(lo) = 1 / (1 + lambda_o)
-    float inv_4cos_o = 0.0f;  // 1 / (4 lo.z): the reflection lobe's f and density share it
+    LobeOutgoing local;    // what the lobes read (local.lo == lo)
     LobeChoice lobes;
   };
 
@@ -208,13 +207,11 @@ class BaseBsdf {
 
   // Whether sample() reads u_split: only an interface that can both reflect and refract
   // (without transmission any u_split in [0, 1) gives the same sample).
-  bool reads_split() const { return has_transmission_; }
+  bool reads_split() const { return has_transmission(); }
   bool has_delta() const;
   bool is_delta_only() const;
   // Whether any lobe that eval() and pdf() see exists (diffuse, rough reflection or refraction).
-  bool has_non_delta() const {
-    return has_diffuse_ || (has_reflection_ && !ggx_.smooth()) || (has_transmission_ && !smooth_transmission_);
-  }
+  bool has_non_delta() const { return diffuse_.exists() || reflection_.rough() || rough_transmission(); }
   bool entering() const { return entering_; }
   // n(far side) / n(wo side) for the macroscopic refraction: ior when entering, 1 / ior when
   // exiting, 1 for a thin wall (light leaves into air again, unbent).
@@ -230,28 +227,37 @@ class BaseBsdf {
     float reflect = 0.0f, refract = 0.0f;
   };
   LobeChoice choose_lobes(const glm::vec3& wo) const;
-  InterfaceSplit interface_split(const glm::vec3& wo, const glm::vec3& m) const;
-  // The same with cos(wo, m) and the Fresnel factor there already computed.
+  // cos(wo, m) and the Fresnel factor there already computed.
   InterfaceSplit interface_split(const glm::vec3& wo, const glm::vec3& m, float cos_wo_m, const glm::vec3& fr) const;
-  glm::vec3 specular_tint(float cos_wo_h, const glm::vec3& fr) const;
-  float base_weight(const glm::vec3& fr) const;
+  InterfaceSplit interface_split_at_normal(const glm::vec3& wo) const;
+  // The transmission lobe's share of the interface at m (0 without one).
+  float transmission_weight(const glm::vec3& wo, const glm::vec3& m, const glm::vec3& fr) const;
+  // The two transmission lobes' terms for wi below the surface, with their density.
+  template <class Transmission>
+  BsdfEval eval_transmitted(const Transmission& lobe, const Outgoing& out, const glm::vec3& wi) const;
+  // A direction through m by the transmission lobe, or its delta direction.
+  std::optional<glm::vec3> transmitted_direction(const glm::vec3& wo, const glm::vec3& m) const;
+  std::optional<glm::vec3> delta_transmitted_direction(const glm::vec3& wo) const;
+  bool has_transmission() const { return thin_wall_.exists() || refraction_.exists(); }
+  bool delta_transmission() const {
+    return (thin_wall_.exists() && thin_wall_.delta()) || (refraction_.exists() && refraction_.delta());
+  }
+  bool rough_transmission() const { return has_transmission() && !delta_transmission(); }
   // wo = out.lo, wi local and mirrored with it.
   BsdfEval eval_local(const Outgoing& out, const glm::vec3& wi) const;
   // wi in the local frame, mirrored as out.lo was.
   glm::vec3 to_oriented_local(const Outgoing& out, const glm::vec3& wi) const;
 
   ShadingFrame frame_;
-  glm::vec3 base_color_;
-  float metallic_, specular_, transmission_;
+  BaseFresnel mix_;
   GgxDistribution ggx_;
-  DielectricFresnel fresnel_;
-  float eta_;          // refraction: n(far side) / n(wo side)
-  float fresnel_eta_;  // Fresnel: n(material or far side) / n(wo side); ior on a thin wall
+  float eta_;  // refraction: n(far side) / n(wo side); 1 on a thin wall
   bool entering_;
   bool thin_walled_;
-  // Which lobes exist at all (independent of wo).
-  bool has_reflection_, has_diffuse_, has_transmission_;
-  bool smooth_transmission_;  // delta transmission: smooth, or an index-matched volume boundary
+  DiffuseLobe diffuse_;
+  ReflectionLobe reflection_;
+  ThinWallLobe thin_wall_;
+  RefractionLobe refraction_;
   // Whether reflection vs refraction is decided at the macro normal (a delta lobe is
   // involved) rather than at the sampled microfacet normal.
   bool split_at_normal_;

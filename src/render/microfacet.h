@@ -71,6 +71,11 @@ class GgxDistribution {
 // Mirror `wo` about the unit normal `m`.
 glm::vec3 reflect_about(const glm::vec3& wo, const glm::vec3& m);
 
+// normalize(a + b) for two unit directions above the surface (a.z, b.z > 0), also where
+// they are nearly opposite and grazing: their sum's squared length then underflows, and
+// glm::normalize would give NaN; the sum is rescaled first (exactly, by a power of two).
+glm::vec3 reflection_half_vector(const glm::vec3& a, const glm::vec3& b);
+
 // Refract `wo` (on the side m points to, wo.m > 0) through the interface with normal m;
 // eta = n(far side) / n(wo side). nullopt on total internal reflection.
 std::optional<glm::vec3> refract_about(const glm::vec3& wo, const glm::vec3& m, float eta);

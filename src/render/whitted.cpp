@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 
 #include "accel/ray_offset.h"
+#include "render/bsdf_lobes.h"
 #include "render/coverage.h"
 #include "render/shading_inputs.h"
 #include "render/fresnel.h"
@@ -18,7 +19,11 @@ namespace {
 
 constexpr float kInvPi = 0.31830988618379067f;
 
-bool is_mirror(const ShadingInputs& si) { return si.metallic >= 0.5f && si.roughness < 0.2f; }
+// Below this roughness a metal, or a clearcoat, is a mirror here; above it its glossy
+// reflection is left out, as Whitted's model leaves out every glossy lobe.
+constexpr float kMirrorRoughness = 0.2f;
+
+bool is_mirror(const ShadingInputs& si) { return si.metallic >= 0.5f && si.roughness < kMirrorRoughness; }
 
 // The rays leaving the shading point: origins pushed off its triangle just far enough that
 // a ray cannot hit it again, for each ray's exact direction (ray_offset.h).
@@ -34,11 +39,34 @@ Ray spawn_ray(const Scene& scene, const ShadingInputs& si, const glm::vec3& dir)
   return r;
 }
 
-// The Lambertian base's cosine toward a light, folded where the shading and geometric
-// normals disagree (shading_inputs.h): 0 for a light below either plane.
-float lambert_cosine(const ShadingInputs& si, const glm::vec3& wi) {
-  return evaluate_folded<float>(si, wi, [&](const glm::vec3& w) { return std::max(0.0f, glm::dot(si.ns, w)); });
+// The coat's normal: its own (normal-mapped) one, else the shading normal.
+glm::vec3 coat_normal(const ShadingInputs& si) {
+  return glm::dot(si.clearcoat_normal, si.clearcoat_normal) > 0.0f ? si.clearcoat_normal : si.ns;
 }
+
+}  // namespace
+
+// What a lit point sends toward the viewer per unit radiance arriving from wi, f * cos(wi):
+// the Lambertian base with weight `diffuse` (colour / pi, already scaled) and the sheen
+// lobe (KHR_materials_sheen, the path tracer's SheenLobe), folded where the shading and
+// geometric normals disagree (shading_inputs.h): 0 for a light below either plane.
+struct WhittedIntegrator::DirectResponse {
+  const ShadingInputs& si;
+  glm::vec3 diffuse;
+  SheenLobe sheen;
+  ShadingFrame frame;
+  glm::vec3 wo_local;
+
+  glm::vec3 operator()(const glm::vec3& wi) const {
+    return evaluate_folded<glm::vec3>(si, wi, [&](const glm::vec3& w) {
+      glm::vec3 f = diffuse * std::max(0.0f, glm::dot(si.ns, w));
+      if (sheen.exists()) f += sheen.eval(wo_local, frame.to_local(w)).f;
+      return f;
+    });
+  }
+};
+
+namespace {
 
 }  // namespace
 
@@ -82,13 +110,43 @@ glm::vec3 WhittedIntegrator::shade_surface(const ShadingInputs& si, const Ray& r
   glm::vec3 L(0.0f);
   if (emits_toward(*si.material, si.front_face)) L += si.emission;
   if (si.unlit) return L + si.base_color;  // KHR_materials_unlit: shows its colour, scatters nothing
-  if (is_mirror(si)) {
-    if (depth < max_depth_) L += mirror(si, ray, depth, sampler, rays);
-    return L;
+  // KHR_materials_clearcoat: a smooth coat is a mirror over the rest, reflecting its share
+  // clearcoat * Fc(|n_c.V|) (the extension's fresnel_coat, ClearcoatLobe::layer_weight) and
+  // passing the remainder down.
+  float under_coat = 1.0f;
+  if (si.clearcoat > 0.0f && si.clearcoat_roughness < kMirrorRoughness) {
+    const glm::vec3 nc = coat_normal(si);
+    const float coat =
+        ClearcoatLobe(si.clearcoat, si.clearcoat_roughness).layer_weight(glm::vec3(0.0f, 0.0f, std::abs(glm::dot(nc, -ray.dir))));
+    glm::vec3 dir = glm::normalize(glm::reflect(ray.dir, nc));
+    if (depth < max_depth_ && fold_direction(si, dir))
+      L += coat * trace(spawn_ray(scene_, si, dir), depth + 1, sampler, rays);
+    under_coat = 1.0f - coat;
   }
-  const float transmission = std::clamp(si.transmission, 0.0f, 1.0f);
-  if (transmission > 0.0f && depth < max_depth_) L += transmission * dielectric(si, ray, depth, sampler, rays);
-  if (transmission < 1.0f) L += (1.0f - transmission) * direct_lighting(si, sampler, rays);
+  return under_coat > 0.0f ? L + under_coat * shade_base(si, ray, depth, sampler, rays) : L;
+}
+
+glm::vec3 WhittedIntegrator::shade_base(const ShadingInputs& si, const Ray& ray, int depth, SobolSampler& sampler,
+                                        std::uint64_t& rays) const {
+  // KHR_materials_sheen: the sheen lobe over the base, which it dims by 1 - max(sheenColor) E.
+  const ShadingFrame frame = ShadingFrame::from_normal(si.ns);
+  const DirectResponse response_template{si, glm::vec3(0.0f), SheenLobe(si.sheen_color, si.sheen_roughness), frame,
+                                         frame.to_local(-ray.dir)};
+  const float scale = response_template.sheen.base_scale(response_template.wo_local);
+  glm::vec3 L(0.0f);
+  float diffuse = 0.0f;
+  if (is_mirror(si)) {
+    if (depth < max_depth_) L += scale * mirror(si, ray, depth, sampler, rays);
+  } else {
+    const float transmission = std::clamp(si.transmission, 0.0f, 1.0f);
+    if (transmission > 0.0f && depth < max_depth_) L += (scale * transmission) * dielectric(si, ray, depth, sampler, rays);
+    diffuse = scale * (1.0f - transmission);
+  }
+  if (diffuse > 0.0f || response_template.sheen.exists()) {
+    DirectResponse response = response_template;
+    response.diffuse = si.base_color * (diffuse * kInvPi);
+    L += direct_lighting(si, response, sampler, rays);
+  }
   return L;
 }
 
@@ -132,44 +190,43 @@ glm::vec3 WhittedIntegrator::dielectric(const ShadingInputs& si, const Ray& ray,
   return L;
 }
 
-glm::vec3 WhittedIntegrator::direct_lighting(const ShadingInputs& si, SobolSampler& sampler,
-                                             std::uint64_t& rays) const {
+glm::vec3 WhittedIntegrator::direct_lighting(const ShadingInputs& si, const DirectResponse& response,
+                                             SobolSampler& sampler, std::uint64_t& rays) const {
   const SurfaceOffset leave = leaving(scene_, si);
-  const glm::vec3 E = punctual_lighting(si, leave, rays) + area_lighting(si, leave, sampler, rays);
-  return si.base_color * kInvPi * E;
+  return punctual_lighting(response, leave, rays) + area_lighting(response, leave, sampler, rays);
 }
 
-// Sum over punctual lights of irradiance * cos(theta), one shadow ray each.
-glm::vec3 WhittedIntegrator::punctual_lighting(const ShadingInputs& si, const SurfaceOffset& leave,
+// Sum over punctual lights of irradiance * response, one shadow ray each.
+glm::vec3 WhittedIntegrator::punctual_lighting(const DirectResponse& response, const SurfaceOffset& leave,
                                                std::uint64_t& rays) const {
-  glm::vec3 E(0.0f);
+  glm::vec3 L(0.0f);
   for (const PunctualLight& light : scene_.lights) {
-    const PunctualIncidence in = illuminate(light, si.p);
+    const PunctualIncidence in = illuminate(light, response.si.p);
     if (in.irradiance == glm::vec3(0.0f)) continue;
-    const float cos_s = lambert_cosine(si, in.wi);
-    if (cos_s <= 0.0f) continue;  // light below the surface
+    const glm::vec3 f = response(in.wi);
+    if (f == glm::vec3(0.0f)) continue;  // light below the surface
     const Ray shadow = shadow_ray_to_punctual(leave, light, in.wi);
-    E += in.irradiance * (cos_s * shadow_visibility(scene_, accel_, shadow, has_coverage_, rays));
+    L += in.irradiance * f * shadow_visibility(scene_, accel_, shadow, has_coverage_, rays);
   }
-  return E;
+  return L;
 }
 
-// Estimate of the irradiance from the emissive triangles, sampled in area:
-// E = 1/N sum L_e cos_s cos_l / r^2 / pdf_area  (cos_l on the emitting side), L_e with the
-// emissive texture (sample_area_light, the path tracer's light sample).
-glm::vec3 WhittedIntegrator::area_lighting(const ShadingInputs& si, const SurfaceOffset& leave, SobolSampler& sampler,
-                                           std::uint64_t& rays) const {
+// Estimate of the light from the emissive triangles, sampled in area:
+// L = 1/N sum L_e response(wi) cos_l / r^2 / pdf_area  (cos_l on the emitting side), L_e with
+// the emissive texture (sample_area_light, the path tracer's light sample).
+glm::vec3 WhittedIntegrator::area_lighting(const DirectResponse& response, const SurfaceOffset& leave,
+                                           SobolSampler& sampler, std::uint64_t& rays) const {
   if (area_lights_.empty() || light_samples_ <= 0) return glm::vec3(0.0f);
   glm::vec3 sum(0.0f);
   for (int k = 0; k < light_samples_; ++k) {
     const float u_pick = sampler.next1();
-    const LightSample ls = sample_area_light(scene_, area_lights_, si.p, u_pick, sampler.next2());
+    const LightSample ls = sample_area_light(scene_, area_lights_, response.si.p, u_pick, sampler.next2());
     if (!ls.valid) continue;
-    const float cos_s = lambert_cosine(si, ls.wi);
-    if (cos_s <= 0.0f) continue;
+    const glm::vec3 f = response(ls.wi);
+    if (f == glm::vec3(0.0f)) continue;
     const Ray shadow = shadow_ray_to_area_light(leave, ls.point.point, ls.point.normal);
     const float visible = shadow_visibility(scene_, accel_, shadow, has_coverage_, rays);
-    if (visible > 0.0f) sum += ls.radiance * (visible * cos_s / ls.pdf_solid_angle());
+    if (visible > 0.0f) sum += ls.radiance * f * (visible / ls.pdf_solid_angle());
   }
   return sum / static_cast<float>(light_samples_);
 }

@@ -15,8 +15,10 @@
 //    straight on;
 //  - Lambert (the remaining weight, BRDF = base colour / pi) lit directly by the punctual
 //    lights (one shadow ray each) and by `light_samples` samples of the emissive triangles.
-// KHR_materials_unlit surfaces show their base colour and stop there. The sheen and clearcoat
-// layers (KHR_materials_sheen / _clearcoat) are ignored here: only the path tracer has them.
+// KHR_materials_unlit surfaces show their base colour and stop there. A smooth clearcoat
+// (KHR_materials_clearcoat, roughness below 0.2) is a mirror over all of this, reflecting its
+// Fresnel share; a rough one is left out like every glossy lobe. A sheen (KHR_materials_sheen)
+// adds its lobe to the direct lighting and dims what lies below it, as the path tracer's does.
 // A surface covers the fraction alpha of its point (glTF alphaMode, render/coverage.h): the
 // rest of the radiance comes from behind it along the same ray, and shadow rays let
 // through 1 - alpha. Secondary rays stop after `max_depth` specular bounces (passing a
@@ -55,23 +57,28 @@ class WhittedIntegrator {
   }
 
  private:
-  // Reflected radiance at a Lambertian point from all lights (no emission of its own).
-  glm::vec3 direct_lighting(const ShadingInputs& si, SobolSampler& sampler, std::uint64_t& rays) const;
   // Counts and intersects `ray`, then shades its hit.
   glm::vec3 trace(const Ray& ray, int depth, SobolSampler& sampler, std::uint64_t& rays) const;
   // Radiance along `ray` given its closest hit, `depth` specular bounces from the camera:
   // the surface's own for the fraction alpha it covers (render/coverage.h), what lies
   // behind it for the rest.
   glm::vec3 shade(const Ray& ray, const Hit& hit, int depth, SobolSampler& sampler, std::uint64_t& rays) const;
-  // The covered surface's radiance: emission, then mirror, dielectric or Lambert.
+  // The covered surface's radiance: emission, the clearcoat's mirror, then shade_base.
   glm::vec3 shade_surface(const ShadingInputs& si, const Ray& ray, int depth, SobolSampler& sampler,
                           std::uint64_t& rays) const;
+  // Below the coat: mirror, dielectric or Lambert, and the sheen.
+  glm::vec3 shade_base(const ShadingInputs& si, const Ray& ray, int depth, SobolSampler& sampler,
+                       std::uint64_t& rays) const;
   glm::vec3 mirror(const ShadingInputs& si, const Ray& ray, int depth, SobolSampler& sampler,
                    std::uint64_t& rays) const;
   glm::vec3 dielectric(const ShadingInputs& si, const Ray& ray, int depth, SobolSampler& sampler,
                        std::uint64_t& rays) const;
-  glm::vec3 punctual_lighting(const ShadingInputs& si, const SurfaceOffset& leave, std::uint64_t& rays) const;
-  glm::vec3 area_lighting(const ShadingInputs& si, const SurfaceOffset& leave, SobolSampler& sampler,
+  // Reflected radiance from all lights through `response` (no emission of its own).
+  struct DirectResponse;
+  glm::vec3 direct_lighting(const ShadingInputs& si, const DirectResponse& response, SobolSampler& sampler,
+                            std::uint64_t& rays) const;
+  glm::vec3 punctual_lighting(const DirectResponse& response, const SurfaceOffset& leave, std::uint64_t& rays) const;
+  glm::vec3 area_lighting(const DirectResponse& response, const SurfaceOffset& leave, SobolSampler& sampler,
                           std::uint64_t& rays) const;
 
   const Scene& scene_;

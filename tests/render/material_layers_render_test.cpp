@@ -4,6 +4,8 @@
 //  - a red sheen over a black base under the same sky is red, with the sheen's directional
 //    albedo E(cos) as its value; a white sheen over a white Lambert base is 1 (the albedo
 //    scaling of KHR_materials_sheen conserves energy there);
+//  - Whitted: a smooth coat mirrors an emitter with its Fresnel share, and a sheen is lit as
+//    the path tracer lights it;
 //  - KHR_materials_unlit shows its base colour in the dark, for the path tracer and Whitted,
 //    and is no light for next-event estimation;
 //  - the same from glTF files that require the extensions (reader to image).
@@ -121,6 +123,62 @@ TEST(SheenRender, WhiteSheenOverWhiteLambertIsOneUnderAUniformSky) {
     const Estimate e = estimate(render(scene, oblique(cos_view), 128, &sky), 0);
     EXPECT_NEAR(e.mean, 1.0, 5.0 * e.stderr_ + 3e-3) << "cos " << cos_view;
   }
+}
+
+// Whitted has no sky: a smooth coat over a black base mirrors an emitter of radiance 1 above
+// it with the coat's Fresnel share; a rough coat is left out, as every glossy lobe is there.
+TEST(ClearcoatRender, WhittedMirrorsAnEmitterThroughASmoothCoat) {
+  for (float roughness : {0.0f, 0.1f, 0.5f})
+    for (float coat : {1.0f, 0.5f}) {
+      Scene scene;
+      Material m = black_base();
+      m.clearcoat = coat;
+      m.clearcoat_roughness = roughness;
+      test::add_square_z(scene, 0, 0, 0, 100.0f, true, add_material(scene, m));
+      test::add_square_z(scene, 0, 0, 2, 100.0f, false, add_material(scene, test::emissive_material(glm::vec3(1.0f))));
+      const PinholeCamera cam = PinholeCamera::look_at({0, 0, 1}, {0, 0, 0}, {0, 1, 0}, 0.08f, 8, 8);
+      const ImageRGB image = render(scene, cam, 4, nullptr, IntegratorKind::Whitted);
+      const double expected = roughness < 0.2f ? 0.04 * coat : 0.0;
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(estimate(image, c).mean, expected, 1e-5) << "clearcoat " << coat << " roughness " << roughness;
+    }
+}
+
+// Whitted lights a sheen as the path tracer does: on a lone square under a directional light
+// both give next-event estimation alone (nothing else to bounce off), so they agree. A red
+// sheen over black is red; over white Lambert it dims the base by 1 - max(sheenColor) E.
+TEST(SheenRender, WhittedLightsTheSheenAsThePathTracerDoes) {
+  for (float base : {0.0f, 1.0f})
+    for (float cos_view : {0.95f, 0.5f}) {
+      Scene scene;
+      Material m = test::diffuse_material(glm::vec3(base));
+      m.specular = 0.0f;
+      m.sheen_color = glm::vec3(1.0f, 0.3f, 0.1f);
+      m.sheen_roughness = 0.5f;
+      test::add_square_z(scene, 0, 0, 0, 1000.0f, true, add_material(scene, m));
+      PunctualLight sun;
+      sun.type = LightType::Directional;
+      sun.direction = glm::normalize(glm::vec3(0.3f, 0.6f, -1.0f));
+      sun.intensity = 2.0f;
+      scene.lights.push_back(sun);
+      const ImageRGB whitted = render(scene, oblique(cos_view), 4, nullptr, IntegratorKind::Whitted);
+      const ImageRGB path = render(scene, oblique(cos_view), 4, nullptr, IntegratorKind::Path);
+      for (int c = 0; c < 3; ++c) {
+        const double w = estimate(whitted, c).mean, p = estimate(path, c).mean;
+        EXPECT_NEAR(w, p, 2e-3 * p + 1e-6) << "base " << base << " cos " << cos_view << " channel " << c;
+      }
+      const double red = estimate(whitted, 0).mean, blue = estimate(whitted, 2).mean;
+      std::printf("Whitted sheen, base %.0f, cos %.2f: red %.4f blue %.4f\n", base, cos_view, red, blue);
+      if (base == 0.0f) {
+        EXPECT_GT(red, 0.005) << "a red sheen over black is lit";
+        EXPECT_GT(red, 5.0 * blue) << "and red";
+      }
+      if (base > 0.0f) {  // the sheen dims the white base: less blue than the bare Lambert's
+        Scene bare = scene;
+        bare.materials[0].sheen_color = glm::vec3(0.0f);
+        EXPECT_LT(estimate(whitted, 2).mean, estimate(render(bare, oblique(cos_view), 4, nullptr, IntegratorKind::Whitted), 2).mean);
+      }
+    }
 }
 
 TEST(UnlitRender, ShowsItsBaseColourAndLightsNothingByNextEvent) {

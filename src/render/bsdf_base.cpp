@@ -235,7 +235,8 @@ std::optional<BsdfSample> BaseBsdf::sample(const Outgoing& out, float u_split, g
         const std::optional<glm::vec3> through = delta_transmitted_direction(lo);
         if (!through) return std::nullopt;
         const float p = lobes.interface * split.refract;
-        const glm::vec3 throughput = (mix_.base_weight(mix_.reflectance(lo.z)) * mix_.transmission()) * mix_.base_color();
+        const glm::vec3 throughput =
+            (mix_.base_weight(mix_.reflectance(lo.z)) * mix_.transmission()) * mix_.base_color();
         return BsdfSample{to_world(*through), throughput / p, p, true, true};
       }
     } else {

@@ -172,3 +172,5 @@ class RefractionLobe {
 };
 
 }  // namespace lancer
+
+#include "render/bsdf_base_lobes-inl.h"

@@ -49,16 +49,6 @@ std::optional<glm::vec3> refract_about(const glm::vec3& wo, const glm::vec3& m, 
   return glm::normalize(-wo / eta + (cos_i / eta - cos_t) * m);
 }
 
-glm::vec3 reflection_half_vector(const glm::vec3& a, const glm::vec3& b) {
-  glm::vec3 sum = a + b;
-  float len2 = glm::dot(sum, sum);
-  if (!(len2 >= std::numeric_limits<float>::min())) {
-    sum *= 0x1p60f;
-    len2 = glm::dot(sum, sum);
-  }
-  return sum * (1.0f / std::sqrt(len2));
-}
-
 std::optional<glm::vec3> refraction_half_vector(const glm::vec3& wo, const glm::vec3& wi, float eta) {
   glm::vec3 h = wo + eta * wi;
   const float len2 = glm::dot(h, h);

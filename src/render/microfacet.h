@@ -22,6 +22,7 @@
 #include <numbers>
 #include <optional>
 
+#include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
@@ -74,7 +75,15 @@ glm::vec3 reflect_about(const glm::vec3& wo, const glm::vec3& m);
 // normalize(a + b) for two unit directions above the surface (a.z, b.z > 0), also where
 // they are nearly opposite and grazing: their sum's squared length then underflows, and
 // glm::normalize would give NaN; the sum is rescaled first (exactly, by a power of two).
-glm::vec3 reflection_half_vector(const glm::vec3& a, const glm::vec3& b);
+inline glm::vec3 reflection_half_vector(const glm::vec3& a, const glm::vec3& b) {
+  glm::vec3 sum = a + b;
+  float len2 = glm::dot(sum, sum);
+  if (!(len2 >= std::numeric_limits<float>::min())) {
+    sum *= 0x1p60f;
+    len2 = glm::dot(sum, sum);
+  }
+  return sum * (1.0f / std::sqrt(len2));
+}
 
 // Refract `wo` (on the side m points to, wo.m > 0) through the interface with normal m;
 // eta = n(far side) / n(wo side). nullopt on total internal reflection.

@@ -8,6 +8,8 @@ find_package(tinyobjloader REQUIRED)
 find_package(CLI11 REQUIRED)
 # KHR_draco_mesh_compression: Google's decoder (Debian's tinygltf is built without it).
 find_package(draco CONFIG REQUIRED)
+# EXT_meshopt_compression: the codec's own library (Debian ships its CMake config).
+find_package(meshoptimizer CONFIG REQUIRED)
 
 # stb ships no CMake config: Debian's libstb.so holds the implementations.
 find_path(STB_INCLUDE_DIR stb_image.h PATH_SUFFIXES stb REQUIRED)

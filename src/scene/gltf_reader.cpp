@@ -28,6 +28,7 @@
 #include "scene/gltf_nodes.h"
 #include "scene/gltf_primitives.h"
 #include "scene/gltf_skins.h"
+#include "scene/gltf_webp.h"
 #include "scene/scene_builder.h"
 #include "scene/scene_error.h"
 #include "scene/scene_warning.h"
@@ -136,10 +137,13 @@ tinygltf::Model load_model(std::span<const unsigned char> bytes, const std::file
                                          : std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   gltf::check_gltf_json(file, json_text);
   // What tinygltf reads: the file, or a copy whose JSON spares tinygltf parts it cannot
-  // take (json_without_draco_indices, plan_meshopt).
+  // take (json_without_draco_indices, plan_meshopt, json_with_webp_data_uris_relabelled).
   std::optional<std::string> changed = gltf::json_without_draco_indices(json_text);
   gltf::MeshoptPlan meshopt = gltf::plan_meshopt(file, changed ? std::string_view(*changed) : json_text);
   if (meshopt.json) changed = std::move(meshopt.json);
+  if (std::optional<std::string> webp =
+          gltf::json_with_webp_data_uris_relabelled(changed ? std::string_view(*changed) : json_text))
+    changed = std::move(webp);
   std::vector<unsigned char> rewritten;
   if (changed) {
     if (binary) {

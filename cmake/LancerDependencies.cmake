@@ -1,4 +1,5 @@
-# Every dependency is a Debian package with a CMake config (see scripts/install-deps.sh).
+# Every dependency is a Debian package with a CMake config, or pkg-config files where it has
+# none (see scripts/install-deps.sh).
 find_package(glm REQUIRED)
 find_package(TBB REQUIRED)
 find_package(TinyGLTF REQUIRED)
@@ -8,6 +9,11 @@ find_package(tinyobjloader REQUIRED)
 find_package(CLI11 REQUIRED)
 # KHR_draco_mesh_compression: Google's decoder (Debian's tinygltf is built without it).
 find_package(draco CONFIG REQUIRED)
+# EXT_meshopt_compression: the codec's own library (Debian ships its CMake config).
+find_package(meshoptimizer CONFIG REQUIRED)
+# EXT_texture_webp: Debian's libwebp has no CMake config, only pkg-config files.
+find_package(PkgConfig REQUIRED)
+pkg_check_modules(WebP REQUIRED IMPORTED_TARGET libwebp)
 
 # stb ships no CMake config: Debian's libstb.so holds the implementations.
 find_path(STB_INCLUDE_DIR stb_image.h PATH_SUFFIXES stb REQUIRED)

@@ -6,6 +6,7 @@ packages=(
   g++ cmake make git pkg-config
   libglm-dev libtbb-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libopenexr-dev
   libtinyobjloader-dev libcli11-dev libgtest-dev libbenchmark-dev libembree-dev libdraco-dev
+  libmeshoptimizer-dev libwebp-dev  # EXT_meshopt_compression, EXT_texture_webp
   clang-14 libclang-rt-14-dev  # `make fuzz`: libFuzzer and the sanitizer runtimes for clang
 )
 missing=()

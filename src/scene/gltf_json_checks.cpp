@@ -215,9 +215,26 @@ void check_document(const Checker& c, const json& doc) {
     c.fields(
         v, p,
         {{"buffer", Kind::Index}, {"byteOffset", Kind::Size}, {"byteLength", Kind::Size}, {"byteStride", Kind::Size}});
+    c.object(v, p, "extensions", [&](const json& e, const std::string& ep) {
+      c.object(e, ep, "EXT_meshopt_compression", [&](const json& m, const std::string& mp) {
+        c.fields(m, mp,
+                 {{"buffer", Kind::Index},
+                  {"byteOffset", Kind::Size},
+                  {"byteLength", Kind::Size},
+                  {"byteStride", Kind::Size},
+                  {"count", Kind::Size},
+                  {"mode", Kind::String},
+                  {"filter", Kind::String}});
+      });
+    });
   });
   c.objects(doc, "", "buffers", false, [&](const json& b, const std::string& p) {
     c.fields(b, p, {{"byteLength", Kind::Size}, {"uri", Kind::String}});
+    c.object(b, p, "extensions", [&](const json& e, const std::string& ep) {
+      c.object(e, ep, "EXT_meshopt_compression", [&](const json& m, const std::string& mp) {
+        c.fields(m, mp, {{"fallback", Kind::Bool}});
+      });
+    });
   });
   c.objects(doc, "", "materials", false, [&](const json& m, const std::string& p) {
     c.fields(m, p,
@@ -239,6 +256,11 @@ void check_document(const Checker& c, const json& doc) {
   });
   c.objects(doc, "", "textures", false, [&](const json& t, const std::string& p) {
     c.fields(t, p, {{"sampler", Kind::Index}, {"source", Kind::Index}});
+    c.object(t, p, "extensions", [&](const json& e, const std::string& ep) {
+      c.object(e, ep, "EXT_texture_webp", [&](const json& w, const std::string& wp) {
+        c.fields(w, wp, {{"source", Kind::Index}});
+      });
+    });
   });
   c.objects(doc, "", "samplers", false, [&](const json& s, const std::string& p) {
     c.fields(s, p,
@@ -301,11 +323,12 @@ std::uint32_t read_u32(const unsigned char* p) {
 }  // namespace
 
 bool extension_supported(std::string_view name) {
-  static constexpr std::array<std::string_view, 14> kSupported = {
+  static constexpr std::array<std::string_view, 16> kSupported = {
       "KHR_lights_punctual",    "KHR_materials_emissive_strength", "KHR_materials_ior",   "KHR_materials_transmission",
       "KHR_materials_specular", "KHR_texture_transform",           "KHR_materials_volume", "KHR_mesh_quantization",
       "EXT_mesh_gpu_instancing", "KHR_draco_mesh_compression",     "KHR_materials_clearcoat",
-      "KHR_materials_sheen",    "KHR_materials_unlit",             "KHR_materials_pbrSpecularGlossiness"};
+      "KHR_materials_sheen",    "KHR_materials_unlit",             "KHR_materials_pbrSpecularGlossiness",
+      "EXT_meshopt_compression", "EXT_texture_webp"};
   for (std::string_view s : kSupported)
     if (s == name) return true;
   return false;

@@ -5,6 +5,7 @@
 #include <tiny_gltf.h>
 
 #include "scene/gltf_texture_refs.h"
+#include "scene/gltf_webp.h"
 #include "scene/image_decode.h"
 #include "scene/scene_error.h"
 #include "scene/scene_warning.h"
@@ -217,16 +218,20 @@ Material convert_material(const ModelRef& m, int index) {
 ByteSpan encoded_image(const ModelRef& m, int index, const std::string& what) {
   const tinygltf::Image& img = m.model.images[std::size_t(index)];
   if (img.bufferView >= 0) return buffer_view_bytes(m, img.bufferView, what);
-  if (img.image.empty())
-    throw SceneError(m.file, what + " ('" + img.uri + "') could not be read (missing file or empty data)");
+  if (img.image.empty()) throw SceneError(m.file, what + " could not be read (missing file or empty data)");
   return {img.image.data(), img.image.size()};
 }
 
 Image decode_gltf_image(const ModelRef& m, int index) {
   const tinygltf::Image& src = m.model.images[std::size_t(index)];
-  const std::string what = "image " + std::to_string(index);
+  const std::string number = "image " + std::to_string(index);
+  // Messages name the image by its index and, when it has one, its file or name (cut
+  // short: a data URI of a type tinygltf does not know is kept as the "file name").
+  const std::string& label = !src.uri.empty() ? src.uri : src.name;
+  const std::string shown = label.size() > 80 ? label.substr(0, 77) + "..." : label;
+  const std::string what = label.empty() ? number : number + " ('" + shown + "')";
   const ByteSpan bytes = encoded_image(m, index, what);
-  std::string name = !src.uri.empty() ? src.uri : !src.name.empty() ? src.name : what + " (embedded)";
+  std::string name = !label.empty() ? label : number + " (embedded)";
   return decode_image({bytes.data, bytes.size}, std::move(name), m.file, what);
 }
 
@@ -263,6 +268,7 @@ void read_textures_and_images(const ModelRef& m, Scene& scene) {
       throw SceneError(m.file, what + ": image index " + std::to_string(t.source) + " out of range (the file has " +
                                    std::to_string(m.model.images.size()) + " images)");
     out.image = t.source < 0 ? -1 : t.source;
+    if (const int webp = webp_texture_source(m, t, what); webp >= 0) out.image = webp;  // gltf_webp.h says why
     if (t.sampler >= int(m.model.samplers.size()))
       throw SceneError(m.file, what + ": sampler index " + std::to_string(t.sampler) + " out of range (the file has " +
                                    std::to_string(m.model.samplers.size()) + " samplers)");

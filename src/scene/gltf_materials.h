@@ -14,7 +14,8 @@ namespace lancer::gltf {
 // property of the wrong type or out of its range.
 void read_materials(const ModelRef& m, Scene& scene);
 
-// Appends the textures (with their samplers) and the decoded 8-bit images. Throws
+// Appends the textures (with their samplers; a texture with EXT_texture_webp uses the
+// WebP image, gltf_webp.h) and the decoded 8-bit images. Throws
 // SceneError when an image cannot be read, is truncated or cannot be decoded, an index
 // is out of range, or a sampler has an unknown wrap or filter enum.
 void read_textures_and_images(const ModelRef& m, Scene& scene);

@@ -24,9 +24,11 @@
 #include "scene/gltf_instancing.h"
 #include "scene/gltf_json_checks.h"
 #include "scene/gltf_materials.h"
+#include "scene/gltf_meshopt.h"
 #include "scene/gltf_nodes.h"
 #include "scene/gltf_primitives.h"
 #include "scene/gltf_skins.h"
+#include "scene/gltf_webp.h"
 #include "scene/scene_builder.h"
 #include "scene/scene_error.h"
 #include "scene/scene_warning.h"
@@ -106,7 +108,7 @@ std::vector<unsigned char> glb_with_json(std::span<const unsigned char> bytes, c
   while (padded.size() % 4 != 0) padded += ' ';
   // The rewritten JSON may be longer than the file's (numbers are written out again).
   if (padded.size() + (total - rest) + 20 > std::size_t(UINT32_MAX))
-    throw SceneError(file, "binary glTF too large once its JSON is rewritten for the Draco primitives");
+    throw SceneError(file, "binary glTF too large once its JSON is rewritten for tinygltf");
   std::vector<unsigned char> out(bytes.begin(), bytes.begin() + 12);
   auto put32 = [&](std::size_t value) {
     for (int k = 0; k < 4; ++k) out.push_back(static_cast<unsigned char>(value >> (8 * k)));
@@ -134,10 +136,16 @@ tinygltf::Model load_model(std::span<const unsigned char> bytes, const std::file
                                          ? gltf::glb_json_chunk(file, bytes)
                                          : std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size());
   gltf::check_gltf_json(file, json_text);
-  // What tinygltf reads: the file, or a copy whose JSON spares tinygltf a part it cannot
-  // take (json_without_draco_indices).
+  // What tinygltf reads: the file, or a copy whose JSON spares tinygltf parts it cannot
+  // take (json_without_draco_indices, plan_meshopt, json_with_webp_data_uris_relabelled).
+  std::optional<std::string> changed = gltf::json_without_draco_indices(json_text);
+  gltf::MeshoptPlan meshopt = gltf::plan_meshopt(file, changed ? std::string_view(*changed) : json_text);
+  if (meshopt.json) changed = std::move(meshopt.json);
+  if (std::optional<std::string> webp =
+          gltf::json_with_webp_data_uris_relabelled(changed ? std::string_view(*changed) : json_text))
+    changed = std::move(webp);
   std::vector<unsigned char> rewritten;
-  if (const std::optional<std::string> changed = gltf::json_without_draco_indices(json_text)) {
+  if (changed) {
     if (binary) {
       rewritten = glb_with_json(bytes, *changed, file);
     } else {
@@ -166,6 +174,8 @@ tinygltf::Model load_model(std::span<const unsigned char> bytes, const std::file
   // dropped, a missing required property): those are errors too.
   if (!ok || !err.empty())
     throw SceneError(file, "invalid glTF: " + (err.empty() ? std::string("tinygltf refused the file") : trimmed(err)));
+  // Before anything reads an accessor: animation posing does too.
+  gltf::decode_meshopt(meshopt.views, model, file);
   return model;
 }
 

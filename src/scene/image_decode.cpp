@@ -1,6 +1,7 @@
 #include "scene/image_decode.h"
 
 #include <stb_image.h>
+#include <webp/decode.h>
 
 #include <climits>
 #include <cstdint>
@@ -75,6 +76,62 @@ std::string jpeg_problem(std::span<const unsigned char> b) {
   }
 }
 
+// RIFF container with form type WEBP (WebP container specification, "RIFF Header").
+bool is_webp(std::span<const unsigned char> b) {
+  return b.size() >= 12 && std::memcmp(b.data(), "RIFF", 4) == 0 && std::memcmp(b.data() + 8, "WEBP", 4) == 0;
+}
+
+std::string webp_status(VP8StatusCode status) {
+  switch (status) {
+    case VP8_STATUS_NOT_ENOUGH_DATA:
+      return "truncated WebP: the data ends before the image does";
+    case VP8_STATUS_BITSTREAM_ERROR:
+      return "corrupt WebP data";
+    case VP8_STATUS_UNSUPPORTED_FEATURE:
+      return "a WebP feature libwebp does not support";
+    case VP8_STATUS_OUT_OF_MEMORY:
+      return "out of memory decoding WebP";
+    default:
+      return "WebP decoder status " + std::to_string(int(status));
+  }
+}
+
+// libwebp decodes. It refuses truncated data itself (VP8_STATUS_NOT_ENOUGH_DATA, checked
+// for lossy and lossless files cut anywhere), so no container walk is needed as for
+// JPEG. It allocates its own output, which stays untouched until rows decode: a header
+// claiming 16383 x 16383 texels followed by garbage costs no memory. The pixels are
+// copied out once the whole image decoded.
+Image decode_webp(std::span<const unsigned char> bytes, std::string name, const std::string& file,
+                  const std::string& what) {
+  WebPDecoderConfig config;
+  if (!WebPInitDecoderConfig(&config)) throw SceneError(file, what + " cannot be decoded: libwebp version mismatch");
+  VP8StatusCode status = WebPGetFeatures(bytes.data(), bytes.size(), &config.input);
+  if (status != VP8_STATUS_OK) throw SceneError(file, what + " cannot be decoded: " + webp_status(status));
+  const int width = config.input.width, height = config.input.height;
+  if (config.input.has_animation) throw SceneError(file, what + " is an animated WebP, which is not supported");
+  if (width <= 0 || height <= 0 || (long long)width * height > kMaxImagePixels)
+    throw SceneError(file, what + " has unsupported size " + std::to_string(width) + "x" + std::to_string(height));
+  const int channels = config.input.has_alpha ? 4 : 3;
+  config.output.colorspace = channels == 4 ? MODE_RGBA : MODE_RGB;
+  status = WebPDecode(bytes.data(), bytes.size(), &config);
+  if (status != VP8_STATUS_OK) {
+    WebPFreeDecBuffer(&config.output);
+    throw SceneError(file, what + " cannot be decoded: " + webp_status(status));
+  }
+  Image out;
+  out.name = std::move(name);
+  out.width = width;
+  out.height = height;
+  out.channels = channels;
+  const WebPRGBABuffer& rgba = config.output.u.RGBA;
+  const std::size_t row = std::size_t(width) * std::size_t(channels);
+  out.pixels.resize(row * std::size_t(height));
+  for (int y = 0; y < height; ++y)
+    std::memcpy(out.pixels.data() + std::size_t(y) * row, rgba.rgba + std::size_t(y) * std::size_t(rgba.stride), row);
+  WebPFreeDecBuffer(&config.output);
+  return out;
+}
+
 }  // namespace
 
 std::string truncation_problem(std::span<const unsigned char> bytes) {
@@ -88,6 +145,7 @@ Image decode_image(std::span<const unsigned char> bytes, std::string name, const
                    const std::string& what) {
   if (bytes.empty()) throw SceneError(file, what + " cannot be decoded: no data");
   if (bytes.size() > std::size_t(INT_MAX)) throw SceneError(file, what + " is too large to decode (over 2 GiB)");
+  if (is_webp(bytes)) return decode_webp(bytes, std::move(name), file, what);
   const int length = int(bytes.size());
   int width = 0, height = 0, channels = 0;
   if (!stbi_info_from_memory(bytes.data(), length, &width, &height, &channels))

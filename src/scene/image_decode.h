@@ -1,5 +1,6 @@
 // Texture images from encoded bytes to lancer::Image, shared by the glTF and OBJ
-// readers: stb_image decodes, and the checks stb does not make are made here.
+// readers: stb_image decodes, libwebp decodes WebP (which stb cannot read), and the
+// checks stb does not make are made here.
 #pragma once
 
 #include <cstddef>
@@ -16,8 +17,10 @@ inline constexpr long long kMaxImagePixels = 1ll << 28;
 
 // Decodes PNG, JPEG, BMP, TGA, ... (whatever stb_image reads) into 8-bit pixels with the
 // file's own channel count (1 grey, 2 grey + alpha, 3 RGB, 4 RGBA), rows top to bottom.
-// `name` becomes Image::name. Throws SceneError(file, what + " ...") when the bytes cannot
-// be decoded, the size is zero or absurd, or a PNG or JPEG is truncated (see below).
+// WebP (a RIFF "WEBP" file: EXT_texture_webp) is decoded by libwebp to RGB, or RGBA when it
+// has alpha; an animated one is refused. `name` becomes Image::name. Throws
+// SceneError(file, what + " ...") when the bytes cannot be decoded, the size is zero or
+// absurd, or a PNG, JPEG or WebP is truncated (see below).
 Image decode_image(std::span<const unsigned char> bytes, std::string name, const std::string& file,
                    const std::string& what);
 

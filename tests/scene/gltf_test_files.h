@@ -94,6 +94,8 @@ class GltfBuilder {
 
   std::vector<unsigned char> bin;
   json doc = {{"asset", {{"version", "2.0"}}}};
+  // Buffers 1, 2, ... after the one holding `bin` (placeholders without data, say).
+  std::vector<json> more_buffers;
 
   // Appends raw bytes (4-byte aligned) and a bufferView over them; returns its index.
   int add_view(const void* data, std::size_t size, std::size_t stride = 0) {
@@ -154,6 +156,7 @@ class GltfBuilder {
       json buffer = {{"byteLength", bin.size()}};
       if (!uri.empty()) buffer["uri"] = uri;
       d["buffers"] = json::array({buffer});
+      for (const json& more : more_buffers) d["buffers"].push_back(more);
     }
     return d.dump();
   }

@@ -1,6 +1,10 @@
 #include "scene/gltf_materials.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <map>
+#include <utility>
 
 #include <tiny_gltf.h>
 
@@ -124,6 +128,34 @@ glm::vec4 extension_vec4(const ModelRef& m, const tinygltf::Value& ext, const ch
           float(v.Get(2).GetNumberAsDouble()), float(v.Get(3).GetNumberAsDouble())};
 }
 
+// The glossiness in specularGlossinessTexture's alpha as a metallic-roughness texture of its
+// own: G = 1 - glossinessFactor * A (roughness), B = 0 (metallic), R unused, with the
+// texture's sampler. An image without alpha has glossiness 1 everywhere. Returns the new
+// texture's index, or -1 when the texture has no image.
+int roughness_texture_from_glossiness(Scene& scene, int texture, float glossiness) {
+  const Texture source = scene.textures.at(std::size_t(texture));
+  if (source.image < 0) return -1;
+  const Image& from = scene.images.at(std::size_t(source.image));
+  Image to;
+  to.name = from.name + " (roughness from its glossiness)";
+  to.width = from.width;
+  to.height = from.height;
+  to.channels = 3;
+  const std::size_t texels = std::size_t(from.width) * std::size_t(from.height);
+  to.pixels.assign(texels * 3, 0);
+  const int c = from.channels;
+  for (std::size_t i = 0; i < texels; ++i) {
+    const float a = c == 2 || c == 4 ? from.pixels[i * std::size_t(c) + std::size_t(c - 1)] / 255.0f : 1.0f;
+    const float roughness = std::clamp(1.0f - glossiness * a, 0.0f, 1.0f);
+    to.pixels[i * 3 + 1] = static_cast<std::uint8_t>(std::lround(roughness * 255.0f));
+  }
+  scene.images.push_back(std::move(to));
+  Texture derived = source;
+  derived.image = int(scene.images.size() - 1);
+  scene.textures.push_back(derived);
+  return int(scene.textures.size() - 1);
+}
+
 // KHR_materials_pbrSpecularGlossiness (archived), converted to metallic-roughness at load:
 //   baseColor = diffuseFactor (diffuseTexture: baseColorTexture), metallic = 0,
 //   roughness = 1 - glossinessFactor,
@@ -131,24 +163,54 @@ glm::vec4 extension_vec4(const ModelRef& m, const tinygltf::Value& ext, const ch
 //   KHR_materials_ior's ior = 0 (dielectric_f0 = 1), so that f0 = specularFactor exactly
 //   (KHR_materials_ior, "ior = 0 ... for specular-glossiness conversions"); then the base's
 //   1 - specular * max(fr) is the extension's diffuse (1 - max(specular)) at normal incidence.
-//   specularGlossinessTexture: its RGB (sRGB) becomes specularColorTexture. Its A (glossiness)
-//   cannot be expressed: roughness = 1 - glossiness * A is not a factor times a texture
-//   channel, so the texture's glossiness is dropped (with a warning) and glossinessFactor
-//   alone sets the roughness.
-void read_specular_glossiness(const ModelRef& m, const tinygltf::Value& ext, const std::string& path,
-                              Material& out) {
+//   specularGlossinessTexture: its RGB (sRGB) becomes specularColorTexture, and its A
+//   (glossiness) a derived metallic-roughness texture (roughness = 1 - glossinessFactor * A
+//   is not a factor times a channel of the file's texture, so the channel is computed at
+//   load, once per texture and glossinessFactor).
+// The roughness textures derived so far, by (texture, glossinessFactor), and the bytes they
+// may still take: one RGB copy of each of the file's images in all, so that a file cannot
+// multiply its memory by giving many materials one big texture with different factors.
+struct DerivedTextures {
+  static std::size_t rgb_bytes(const Image& image) { return std::size_t(image.width) * std::size_t(image.height) * 3; }
+
+  std::map<std::pair<int, float>, int> index;
+  std::size_t bytes_left = 0;
+};
+
+void read_specular_glossiness(const ModelRef& m, const tinygltf::Value& ext, const std::string& path, Scene& scene,
+                              DerivedTextures& derived, Material& out) {
   out.base_color = extension_vec4(m, ext, "diffuseFactor", glm::vec4(1.0f), path);
   out.base_color_texture = extension_texture_ref(m, ext, "diffuseTexture", path);
   out.metallic = 0.0f;
   out.metallic_roughness_texture = {};
-  out.roughness = 1.0f - extension_number(m, ext, "glossinessFactor", 1.0f, path);
+  const float glossiness = extension_number(m, ext, "glossinessFactor", 1.0f, path);
+  out.roughness = 1.0f - glossiness;
   out.specular = 1.0f;
   out.specular_color = extension_vec3(m, ext, "specularFactor", glm::vec3(1.0f), path);
   out.ior = 0.0f;
   out.specular_color_texture = extension_texture_ref(m, ext, "specularGlossinessTexture", path);
-  if (out.specular_color_texture.present())
-    print_scene_warnings(m.file, path + ".specularGlossinessTexture: its glossiness (alpha) is not converted; "
-                                        "roughness = 1 - glossinessFactor everywhere");
+  if (out.specular_color_texture.present()) {
+    const std::pair<int, float> key{out.specular_color_texture.texture, glossiness};
+    auto it = derived.index.find(key);
+    if (it == derived.index.end()) {
+      const int image = scene.textures.at(std::size_t(key.first)).image;
+      const std::size_t bytes = image < 0 ? 0 : DerivedTextures::rgb_bytes(scene.images[std::size_t(image)]);
+      if (bytes > derived.bytes_left) {
+        print_scene_warnings(m.file, path +
+                                         ".specularGlossinessTexture: its glossiness (alpha) is not converted (the "
+                                         "roughness textures derived from the file's images would outgrow one copy "
+                                         "of them); roughness = 1 - glossinessFactor here");
+        return;
+      }
+      derived.bytes_left -= bytes;
+      it = derived.index.emplace(key, roughness_texture_from_glossiness(scene, key.first, glossiness)).first;
+    }
+    if (it->second >= 0) {
+      out.metallic_roughness_texture = out.specular_color_texture;
+      out.metallic_roughness_texture.texture = it->second;
+      out.roughness = 1.0f;  // the texture's G holds the whole roughness
+    }
+  }
 }
 
 AlphaMode alpha_mode(const ModelRef& m, const std::string& mode, const std::string& what) {
@@ -158,7 +220,7 @@ AlphaMode alpha_mode(const ModelRef& m, const std::string& mode, const std::stri
   throw SceneError(m.file, what + ": unknown alphaMode '" + mode + "' (expected OPAQUE, MASK or BLEND)");
 }
 
-Material convert_material(const ModelRef& m, int index) {
+Material convert_material(const ModelRef& m, int index, Scene& scene, DerivedTextures& derived) {
   const tinygltf::Material& g = m.model.materials[std::size_t(index)];
   const std::string what = material_name(index);
   const tinygltf::PbrMetallicRoughness& pbr = g.pbrMetallicRoughness;
@@ -208,7 +270,8 @@ Material convert_material(const ModelRef& m, int index) {
     read_sheen(m, *ext, json_path + ".extensions.KHR_materials_sheen", out);
   if (extension_object(m, g, "KHR_materials_unlit", json_path)) out.unlit = true;
   if (const auto* ext = extension_object(m, g, "KHR_materials_pbrSpecularGlossiness", json_path))
-    read_specular_glossiness(m, *ext, json_path + ".extensions.KHR_materials_pbrSpecularGlossiness", out);
+    read_specular_glossiness(m, *ext, json_path + ".extensions.KHR_materials_pbrSpecularGlossiness", scene,
+                             derived, out);
   require_finite_factors(m, out, what);
   return out;
 }
@@ -255,7 +318,10 @@ void check_sampler(const ModelRef& m, const tinygltf::Sampler& s, int index) {
 }  // namespace
 
 void read_materials(const ModelRef& m, Scene& scene) {
-  for (std::size_t i = 0; i < m.model.materials.size(); ++i) scene.materials.push_back(convert_material(m, int(i)));
+  DerivedTextures derived;
+  for (const Image& image : scene.images) derived.bytes_left += DerivedTextures::rgb_bytes(image);
+  for (std::size_t i = 0; i < m.model.materials.size(); ++i)
+    scene.materials.push_back(convert_material(m, int(i), scene, derived));
 }
 
 void read_textures_and_images(const ModelRef& m, Scene& scene) {

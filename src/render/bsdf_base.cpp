@@ -18,9 +18,9 @@ constexpr float kMinLobeEstimate = 0.02f;
 
 // Clamp to [0, 1]; NaN becomes 0.
 float unit_clamp(float x) { return x > 0.0f ? (x < 1.0f ? x : 1.0f) : 0.0f; }
-float average(const glm::vec3& v) { return (v.x + v.y + v.z) * (1.0f / 3.0f); }
 
-glm::vec3 mirror_z(const glm::vec3& v) { return {v.x, v.y, -v.z}; }
+using base_lobes::average;
+using base_lobes::mirror_z;
 
 }  // namespace
 

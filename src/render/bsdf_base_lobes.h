@@ -83,7 +83,6 @@ struct LobeValue {
 // cosine-distributed samples.
 class DiffuseLobe {
  public:
-  DiffuseLobe() = default;
   explicit DiffuseLobe(const BaseFresnel& mix);
   bool exists() const { return exists_; }
   // Its albedo estimate at wo from the base's, base = base_weight(fr(n)) * average(baseColor).

@@ -13,18 +13,6 @@ namespace {
 
 constexpr float kPi = std::numbers::pi_v<float>;
 
-// normalize(a + b) for two unit directions above the surface; rescaled first where the sum's
-// squared length underflows (as bsdf_base.cpp's half vector).
-glm::vec3 half_of(const glm::vec3& a, const glm::vec3& b) {
-  glm::vec3 sum = a + b;
-  float len2 = glm::dot(sum, sum);
-  if (!(len2 >= std::numeric_limits<float>::min())) {
-    sum *= 0x1p60f;
-    len2 = glm::dot(sum, sum);
-  }
-  return sum * (1.0f / std::sqrt(len2));
-}
-
 float max_component(const glm::vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
 float average(const glm::vec3& v) { return (v.x + v.y + v.z) * (1.0f / 3.0f); }
 float unit_clamp(float x) { return x > 0.0f ? (x < 1.0f ? x : 1.0f) : 0.0f; }
@@ -75,7 +63,7 @@ float charlie_lambda(float cos_theta, float alpha) {
 
 float charlie_sheen(const glm::vec3& wo, const glm::vec3& wi, float alpha) {
   if (!(wo.z > 0.0f) || !(wi.z > 0.0f)) return 0.0f;
-  const glm::vec3 h = half_of(wo, wi);
+  const glm::vec3 h = reflection_half_vector(wo, wi);
   const float sin2 = h.x * h.x + h.y * h.y;  // sin^2(theta_h), precise near the pole
   const float inv_alpha = 1.0f / alpha;
   const float d = (2.0f + inv_alpha) * std::pow(sin2, 0.5f * inv_alpha) / (2.0f * kPi);
@@ -105,7 +93,7 @@ double sheen_albedo_quadrature(float cos_o, float roughness, int n) {
     for (int k = 0; k < n; ++k) {
       const double phi = (k + 0.5) * dphi;
       const glm::vec3 wi(float(st * std::cos(phi)), float(st * std::sin(phi)), float(ct));
-      const glm::vec3 h = half_of(wo, wi);
+      const glm::vec3 h = reflection_half_vector(wo, wi);
       ring += d_norm * std::pow(h.x * h.x + h.y * h.y, 0.5f * inv_alpha);
     }
     sum += ring * scale * st;
@@ -173,7 +161,7 @@ float ClearcoatLobe::layer_weight(const glm::vec3& wo) const {
 
 BsdfEval ClearcoatLobe::eval(const glm::vec3& wo, const glm::vec3& wi) const {
   if (!exists() || ggx_.smooth() || !(wi.z > 0.0f) || !(wo.z > 0.0f)) return {};
-  const glm::vec3 h = half_of(wo, wi);
+  const glm::vec3 h = reflection_half_vector(wo, wi);
   const float d = ggx_.d(h);
   const float lambda_o = ggx_.lambda(wo);
   const float inv_4cos_o = 1.0f / (4.0f * std::max(wo.z, std::numeric_limits<float>::min()));

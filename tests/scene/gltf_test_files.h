@@ -20,6 +20,7 @@
 
 #include "scene/gltf_reader.h"
 #include "scene/scene_error.h"
+#include "scene/scene_warning.h"
 
 namespace lancer::gltf_test {
 
@@ -231,6 +232,14 @@ class GltfTempDir : public ::testing::Test {
       EXPECT_NE(msg.find(file.string()), std::string::npos) << msg;
       EXPECT_NE(msg.find(word), std::string::npos) << "expected '" << word << "' in: " << msg;
     }
+  }
+  // read_gltf(file), which must not warn that an extension is unsupported (the extension
+  // under test was read, not skipped).
+  Scene read_supported(const std::filesystem::path& file) {
+    SceneWarningLog log;
+    Scene s = read_gltf(file);
+    for (const std::string& w : log.take()) EXPECT_EQ(w.find("not supported"), std::string::npos) << w;
+    return s;
   }
   // The same for `b` written as bad.gltf.
   void expect_error(const GltfBuilder& b, const std::string& word) {

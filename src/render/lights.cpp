@@ -15,26 +15,6 @@ namespace lancer {
 
 namespace {
 
-// The distance window the KHR_lights_punctual extension recommends for a finite range.
-float range_window(float distance, float range) {
-  if (!(range > 0.0f)) return 1.0f;
-  const float r = distance / range;
-  return std::clamp(1.0f - r * r * r * r, 0.0f, 1.0f);
-}
-
-// The extension's spot falloff: a linear ramp in cos(angle) between the cones, squared.
-float spot_falloff(const PunctualLight& light, const glm::vec3& to_point) {
-  const float cos_outer = std::cos(light.outer_cone);
-  const float cos_inner = std::cos(light.inner_cone);
-  const float scale = 1.0f / std::max(0.001f, cos_inner - cos_outer);
-  const float offset = -cos_outer * scale;
-  const float len = glm::length(light.direction);
-  if (!(len > 0.0f)) return 0.0f;
-  const float cd = glm::dot(light.direction / len, to_point);
-  const float t = std::clamp(cd * scale + offset, 0.0f, 1.0f);
-  return t * t;
-}
-
 // Whether a material's emission varies over a triangle: an emissive texture, or a coverage
 // (emission is weighted by it, render/coverage.h). Back-face culling plays no part: the
 // estimate looks at the front side.
@@ -93,6 +73,24 @@ double mean_emitted_luminance(const Scene& scene, const EmissiveTriangle& t, int
 }
 
 }  // namespace
+
+float range_window(float distance, float range) {
+  if (!(range > 0.0f)) return 1.0f;
+  const float r = distance / range;
+  return std::clamp(1.0f - r * r * r * r, 0.0f, 1.0f);
+}
+
+float spot_falloff(const PunctualLight& light, const glm::vec3& to_point) {
+  const float cos_outer = std::cos(light.outer_cone);
+  const float cos_inner = std::cos(light.inner_cone);
+  const float scale = 1.0f / std::max(0.001f, cos_inner - cos_outer);
+  const float offset = -cos_outer * scale;
+  const float len = glm::length(light.direction);
+  if (!(len > 0.0f)) return 0.0f;
+  const float cd = glm::dot(light.direction / len, to_point);
+  const float t = std::clamp(cd * scale + offset, 0.0f, 1.0f);
+  return t * t;
+}
 
 PunctualIncidence illuminate(const PunctualLight& light, const glm::vec3& p) {
   PunctualIncidence in;

@@ -25,6 +25,16 @@ struct PunctualIncidence {
 // A range > 0 applies the window the extension recommends, max(min(1 - (d/range)^4, 1), 0).
 PunctualIncidence illuminate(const PunctualLight& light, const glm::vec3& p);
 
+// The distance window the KHR_lights_punctual extension recommends for a finite range:
+// 1 when range <= 0 (no range). illuminate() applies it; a photon tracer applies it at the
+// distance its photon first hits something.
+float range_window(float distance, float range);
+
+// The extension's spot falloff toward the unit direction `to_point` (from the light): a
+// linear ramp in cos(angle) between the outer and inner cones, squared; 0 outside the outer
+// cone and for a light without a direction. illuminate() multiplies the intensity by it.
+float spot_falloff(const PunctualLight& light, const glm::vec3& to_point);
+
 // One emissive triangle, emitting on its front side (the side cross(e1, e2) points to), or
 // on both when its material is double-sided (render/shading_inputs.h, emits_toward).
 struct EmissiveTriangle {

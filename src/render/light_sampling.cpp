@@ -28,19 +28,21 @@ LightSample sample_area_light(const Scene& scene, const AreaLights& lights, cons
   }
   if (!(s.cos_l > 0.0f)) return s;
   s.valid = true;
-  s.radiance = s.point.radiance;
-  const Material& m = scene.materials[scene.material_id[s.point.prim]];
-  if (m.emissive_texture.present() || m.alpha_mode != AlphaMode::Opaque) {
-    // The texture at the point: shade the light's triangle as a ray from p would see it. A
-    // surface that covers only the fraction alpha of the point emits alpha times as much
-    // (render/coverage.h).
-    Ray toward;
-    toward.org = p;
-    toward.dir = s.wi;
-    const ShadingInputs si = evaluate_shading(scene, toward, Hit{std::sqrt(s.dist2), s.point.prim, s.point.b1, s.point.b2});
-    s.radiance = si.emission * si.alpha;
-  }
+  s.radiance = area_light_radiance(scene, s.point, -s.wi);
   return s;
+}
+
+glm::vec3 area_light_radiance(const Scene& scene, const AreaLightSample& s, const glm::vec3& w) {
+  const Material& m = scene.materials[scene.material_id[s.prim]];
+  if (!m.emissive_texture.present() && m.alpha_mode == AlphaMode::Opaque) return s.radiance;
+  // The texture at the point: shade the light's triangle as a ray arriving along -w would see
+  // it (only the ray's direction and the hit's barycentrics matter). A surface that covers
+  // only the fraction alpha of the point emits alpha times as much (render/coverage.h).
+  Ray toward;
+  toward.org = s.point + w;
+  toward.dir = -w;
+  const ShadingInputs si = evaluate_shading(scene, toward, Hit{1.0f, s.prim, s.b1, s.b2});
+  return si.emission * si.alpha;
 }
 
 }  // namespace lancer

@@ -31,4 +31,11 @@ struct LightSample {
 LightSample sample_area_light(const Scene& scene, const AreaLights& lights, const glm::vec3& p, float u_pick,
                               glm::vec2 u);
 
+// The radiance the point `s` of an emissive triangle sends in the unit direction `w`, which
+// must leave an emitting side: the triangle's emission (s.radiance) times its emissive
+// texture and coverage at the point, as evaluate_shading sees the light there. What both
+// next-event estimation (sample_area_light) and photons leaving the lights (render/
+// light_emission.h) carry, so the two directions of light transport agree on textured lights.
+glm::vec3 area_light_radiance(const Scene& scene, const AreaLightSample& s, const glm::vec3& w);
+
 }  // namespace lancer

@@ -1,5 +1,6 @@
 #include "app/cli.h"
 
+
 #include <ostream>
 #include <string>
 #include <vector>
@@ -13,6 +14,7 @@
 #include "app/rays_command.h"
 #include "app/render_command.h"
 #include "app/trace_command.h"
+#include "render/sppm_render.h"
 #include "simd/isa.h"
 
 namespace lancer {
@@ -81,12 +83,20 @@ void add_render_command(CLI::App& app, RenderOptions& opt) {
   s.integrator = IntegratorKind::Path;
   render->add_option_function<std::string>(
             "--integrator", [&s](const std::string& name) { s.integrator = *parse_integrator(name); },
-            "path (physically based), whitted (recursive ray tracing), or the debug views normals, albedo, "
-            "depth, ao (ambient occlusion), primid")
-      ->check(CLI::IsMember({"path", "whitted", "normals", "albedo", "depth", "ao", "primid"}))
+            "path (physically based), sppm (stochastic progressive photon mapping: path tracing plus photons for "
+            "caustics; --spp counts iterations), whitted (recursive ray tracing), or the debug views normals, "
+            "albedo, depth, ao (ambient occlusion), primid")
+      ->check(CLI::IsMember({"path", "sppm", "whitted", "normals", "albedo", "depth", "ao", "primid"}))
       ->default_str("path");
+  render->add_option("--photons", s.photons,
+                     "sppm: photons shot per iteration (default: one per pixel, at most 4194304)")
+      ->check(CLI::Range(std::int64_t(1), kMaxPhotonsPerIteration));
+  render->add_option("--sppm-radius", s.sppm_radius,
+                     "sppm: the gather radius every pixel starts with, in scene units (default: 3 pixel footprints "
+                     "at the distance of the pixel's first visible point)")
+      ->check(CLI::Range(1e-30, 1e30))->type_name("RADIUS");
   render->add_option("--env", opt.env_file,
-                     "Environment: an equirectangular map (.exr, .hdr, .png) lighting the scene (path only; "
+                     "Environment: an equirectangular map (.exr, .hdr, .png) lighting the scene (path and sppm only; "
                      "default: black)")
       ->type_name("FILE");
   render->add_option("--env-color", opt.env_color, "Environment: a constant colour R,G,B (linear radiance)")
@@ -111,11 +121,12 @@ void add_render_command(CLI::App& app, RenderOptions& opt) {
       ->check(CLI::IsMember({"packet", "single"}))
       ->default_str("packet");
   render->add_option("--max-depth", s.max_depth,
-                     "path: bounces after the camera ray; whitted: reflection and refraction recursion limit")
+                     "path, sppm: bounces after the camera ray; whitted: reflection and refraction recursion limit")
       ->check(CLI::Range(0, 64))->capture_default_str();
   render->add_option("--light-samples", s.light_samples,
                      "Points sampled on the emissive triangles per shading point, each with a shadow ray (path: at "
-                     "every bounce, combined with BSDF sampling by MIS; whitted: at each diffuse hit)")
+                     "every bounce, combined with BSDF sampling by MIS; sppm: at each camera path's non-delta "
+                     "vertex; whitted: at each diffuse hit)")
       ->check(CLI::Range(1, 4096))->capture_default_str();
   render->add_option("--threads", s.threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 4096))->capture_default_str();
   render->add_option("--seed", s.seed, "Random seed; the image depends only on it, not on threads")->capture_default_str();

@@ -67,6 +67,12 @@ Bsdf::Outgoing Bsdf::outgoing(const glm::vec3& wo) const {
   return out;
 }
 
+float Bsdf::delta_probability(const Outgoing& out) const {
+  if (!layered_) return base_.delta_probability(out.base);
+  if (!out.base.valid) return 0.0f;
+  return (coat_.smooth() ? out.p_coat : 0.0f) + out.p_base * base_.delta_probability(out.base);
+}
+
 BsdfEval Bsdf::evaluate(const Outgoing& out, const glm::vec3& wi) const {
   if (!layered_) return base_.evaluate(out.base, wi);
   if (!out.base.valid) return {};

@@ -65,6 +65,11 @@ class Bsdf {
     if (!layered_) return base_.is_delta_only();
     return has_delta() && !base_.has_non_delta() && !sheen_.exists() && coat_.smooth();
   }
+  // A Lambertian or sheen lobe: where photon mapping's visible points stay (glossy lobes
+  // alone pass the camera path on).
+  bool has_diffuse() const { return base_.has_diffuse() || sheen_.exists(); }
+  // The probability that sample(out, ...) returns a delta sample (when its direction exists).
+  float delta_probability(const Outgoing& out) const;
   bool entering() const { return base_.entering(); }
   float eta() const { return base_.eta(); }
   bool thin_walled() const { return base_.thin_walled(); }

@@ -81,6 +81,18 @@ bool BaseBsdf::is_delta_only() const {
   return has_delta() && !diffuse_.exists() && !reflection_.rough() && !rough_transmission();
 }
 
+float BaseBsdf::delta_probability(const Outgoing& out) const {
+  // sample()'s choice: the interface with probability lobes.interface (all of it when there is
+  // no diffuse lobe), then reflection or transmission at the normal where a delta lobe decides.
+  if (!out.valid || !split_at_normal_ || !(out.lobes.interface > 0.0f)) return 0.0f;
+  const float interface = out.lobes.diffuse == 0.0f ? 1.0f : out.lobes.interface;
+  const InterfaceSplit split = interface_split_at_normal(out.lo);
+  float p = 0.0f;
+  if (reflection_.smooth()) p += split.reflect;
+  if (delta_transmission()) p += split.refract;
+  return interface * p;
+}
+
 BaseBsdf::Outgoing BaseBsdf::outgoing(const glm::vec3& wo) const {
   Outgoing out;
   out.wo = wo;

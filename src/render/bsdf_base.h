@@ -212,6 +212,11 @@ class BaseBsdf {
   bool is_delta_only() const;
   // Whether any lobe that eval() and pdf() see exists (diffuse, rough reflection or refraction).
   bool has_non_delta() const { return diffuse_.exists() || reflection_.rough() || rough_transmission(); }
+  // Whether a Lambertian lobe exists (photon mapping keeps its visible points on such surfaces).
+  bool has_diffuse() const { return diffuse_.exists(); }
+  // The probability that sample(out, ...) picks a delta lobe (the smooth mirror, or a delta
+  // transmission), for the integrators that handle the delta and non-delta parts apart.
+  float delta_probability(const Outgoing& out) const;
   bool entering() const { return entering_; }
   // n(far side) / n(wo side) for the macroscopic refraction: ior when entering, 1 / ior when
   // exiting, 1 for a thin wall (light leaves into air again, unbent).

@@ -39,6 +39,7 @@ glm::vec3 debug_radiance_from_hit(IntegratorKind kind, const Scene& scene, const
       return primid_color(hit.prim < scene.source_triangle_id.size() ? scene.source_triangle_id[hit.prim] : hit.prim);
     case IntegratorKind::Path:
     case IntegratorKind::Whitted:
+    case IntegratorKind::Sppm:
     case IntegratorKind::Ao:
       break;
   }

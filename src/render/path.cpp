@@ -12,6 +12,7 @@
 #include "render/light_sampling.h"
 #include "render/shading_inputs.h"
 #include "render/shadow_ray.h"
+#include "render/surface_bsdf.h"
 
 namespace lancer {
 
@@ -308,15 +309,7 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
   if (path.bounces >= max_depth_) return false;
   const std::uint32_t leaf = leave();
 
-  BsdfInputs inputs{si.base_color, si.metallic,       si.roughness,   si.ior,
-                    si.specular,   si.specular_color, si.transmission, si.thin_walled};
-  inputs.clearcoat = si.clearcoat;
-  inputs.clearcoat_roughness = si.clearcoat_roughness;
-  inputs.clearcoat_normal = si.clearcoat_normal;
-  inputs.sheen_color = si.sheen_color;
-  inputs.sheen_roughness = si.sheen_roughness;
-  // si.tangent is unit and orthogonal to si.ns already (evaluate_shading).
-  const Bsdf bsdf(inputs, ShadingFrame::from_orthonormal(si.ns, si.tangent), si.front_face);
+  const Bsdf bsdf = surface_bsdf(si);
   const Bsdf::Outgoing wo = bsdf.outgoing(-dir);
   // The BSDF folded where the shading and geometric normals disagree (shading_inputs.h).
   // Where the two normals are the same (flat shading) no direction lies in the wedge.

@@ -12,7 +12,7 @@ namespace lancer {
 
 class Environment;
 
-enum class IntegratorKind { Path, Whitted, Normals, Albedo, Depth, Ao, PrimId };
+enum class IntegratorKind { Path, Whitted, Sppm, Normals, Albedo, Depth, Ao, PrimId };
 
 std::string_view integrator_name(IntegratorKind kind);
 std::optional<IntegratorKind> parse_integrator(std::string_view name);
@@ -28,7 +28,7 @@ std::optional<TraceMode> parse_trace_mode(std::string_view name);
 struct RenderSettings {
   int width = 512;
   int height = 512;
-  int spp = 16;            // jittered samples per pixel
+  int spp = 16;            // jittered samples per pixel (sppm: iterations, one camera path per pixel each)
   IntegratorKind integrator = IntegratorKind::Path;
   int max_depth = 8;       // path: bounces; whitted: reflection/refraction recursion limit
   // Points sampled on the emissive triangles (each with its shadow ray) per shading point:
@@ -38,8 +38,12 @@ struct RenderSettings {
   std::uint64_t seed = 0;
   int tile_size = 16;
   PixelFilterType filter = PixelFilterType::Box;  // pixel reconstruction filter (every integrator)
-  // The environment (not owned; null: black background); path only.
+  // The environment (not owned; null: black background); path and sppm only.
   const Environment* environment = nullptr;
+  // sppm: photons shot per iteration (0: one per pixel), and the visible points' initial
+  // radius in scene units (0: kSppmRadiusPixels pixel footprints at the point's distance).
+  std::int64_t photons = 0;
+  float sppm_radius = 0.0f;
   TraceMode mode = TraceMode::Packet;  // primary rays only; secondary rays are always single
 };
 

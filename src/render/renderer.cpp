@@ -4,6 +4,7 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -20,6 +21,7 @@
 #include "render/primary_block.h"
 #include "render/render_control.h"
 #include "render/sampler.h"
+#include "render/sppm_render.h"
 #include "render/tile_scheduler.h"
 #include "render/whitted.h"
 
@@ -41,8 +43,13 @@ void check_settings(const Scene& scene, const PinholeCamera& camera, const Rende
   if (s.mode != TraceMode::Packet && s.mode != TraceMode::Single) fail("unknown trace mode");
   if (scene.material_id.size() != scene.triangle_count() || scene.materials.empty())
     fail("scene " + scene.source + " has no material for some triangles");
-  if (s.environment && s.integrator != IntegratorKind::Path)
-    fail("an environment lights only the path integrator, not " + std::string(integrator_name(s.integrator)));
+  if (s.environment && s.integrator != IntegratorKind::Path && s.integrator != IntegratorKind::Sppm)
+    fail("an environment lights only the path and sppm integrators, not " + std::string(integrator_name(s.integrator)));
+  if (s.photons < 0 || s.photons > kMaxPhotonsPerIteration)
+    fail("photons per iteration must be between 1 and " + std::to_string(kMaxPhotonsPerIteration) + " (0: default)");
+  if (!(s.sppm_radius >= 0.0f) || !std::isfinite(s.sppm_radius)) fail("the sppm radius must be finite and >= 0");
+  if (s.integrator != IntegratorKind::Sppm && (s.photons != 0 || s.sppm_radius != 0.0f))
+    fail("photons and the sppm radius are for the sppm integrator only");
 }
 
 }  // namespace
@@ -51,6 +58,7 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
                       const RenderSettings& settings, RenderStats& stats, const ProgressCallback& progress,
                       const RenderControl& control) {
   check_settings(scene, camera, settings);
+  if (settings.integrator == IntegratorKind::Sppm) return render_sppm(scene, accel, camera, settings, stats, progress, control);
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   const bool timed = control.time_limit_s > 0.0;

@@ -29,7 +29,8 @@ using ProgressCallback = std::function<void(std::size_t tiles_done, std::size_t 
 // blocks of at most 8x8 pixels inside each tile, as packets or one by one as settings.mode
 // says; the image is the same either way. The path tracer then advances the paths of up to
 // kWavefrontBlocks blocks of a tile together (PathIntegrator::radiance_block); the other
-// integrators shade pixel by pixel.
+// integrators shade pixel by pixel. IntegratorKind::Sppm runs render_sppm
+// (render/sppm_render.h): settings.spp iterations of progressive photon mapping.
 ImageRGB render_image(const Scene& scene, const Accelerator& accel, const PinholeCamera& camera,
                       const RenderSettings& settings, RenderStats& stats, const ProgressCallback& progress = {},
                       const RenderControl& control = {});

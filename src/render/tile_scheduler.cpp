@@ -52,4 +52,12 @@ void TileRunner::run(const std::vector<Tile>& tiles, const std::function<void(co
   });
 }
 
+void TileRunner::run_ranges(std::size_t n, std::size_t grain,
+                            const std::function<void(std::size_t, std::size_t)>& body) {
+  arena_.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, std::max<std::size_t>(grain, 1)),
+                      [&](const tbb::blocked_range<std::size_t>& r) { body(r.begin(), r.end()); });
+  });
+}
+
 }  // namespace lancer

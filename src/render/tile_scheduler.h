@@ -34,6 +34,9 @@ class TileRunner {
   explicit TileRunner(int threads);
   void run(const std::vector<Tile>& tiles, const std::function<void(const Tile&)>& render_tile,
            const std::function<void(std::size_t, std::size_t)>& on_done, std::size_t total);
+  // Other work in the same arena: body(begin, end) over [0, n) in ranges of about `grain`
+  // (at least 1), in parallel. The body must not depend on how the range is split.
+  void run_ranges(std::size_t n, std::size_t grain, const std::function<void(std::size_t, std::size_t)>& body);
 
  private:
   tbb::task_arena arena_;

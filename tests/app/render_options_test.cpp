@@ -22,7 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const char* const kIntegrators[] = {"path", "whitted", "normals", "albedo", "depth", "ao", "primid"};
+const char* const kIntegrators[] = {"path", "sppm", "whitted", "normals", "albedo", "depth", "ao", "primid"};
 
 class RenderOptions : public ::testing::Test {
  protected:
@@ -68,7 +68,8 @@ TEST_F(RenderOptions, EveryOptionChangesTheImageOrIsRefused) {
   const std::vector<std::vector<std::string>> changes = {
       {"--spp", "3"},          {"--seed", "5"},         {"--max-depth", "1"},       {"--light-samples", "2"},
       {"--filter", "gaussian"}, {"--aperture", "0.03", "--focus-distance", "0.6"}, {"--fov", "30"},
-      {"--eye", "0.3,0.3,-0.7", "--look-at", "0.278,0.273,0.28"}, {"--env-color", "1,1,1"}, {"--env-color", "1,1,1", "--env-scale", "3"}};
+      {"--eye", "0.3,0.3,-0.7", "--look-at", "0.278,0.273,0.28"}, {"--env-color", "1,1,1"}, {"--env-color", "1,1,1", "--env-scale", "3"},
+      {"--photons", "100"},    {"--sppm-radius", "0.05"}};
   for (const char* integrator : kIntegrators) {
     const Run base = render(integrator, {});
     ASSERT_EQ(base.code, 0) << integrator << ": " << base.err;
@@ -90,14 +91,17 @@ TEST_F(RenderOptions, EveryOptionChangesTheImageOrIsRefused) {
 }
 
 // What each integrator refuses, spelled out: the debug views and ao read neither the
-// depth nor the light samples, and only the path tracer is lit by an environment.
+// depth nor the light samples, only the path tracer and the photon mapper are lit by an
+// environment, and only the photon mapper reads the photon options.
 TEST_F(RenderOptions, RefusalsAreThoseOfTheIntegratorsThatIgnoreTheOption) {
   for (const char* integrator : kIntegrators) {
     const std::string name = integrator;
-    const bool lit = name == "path" || name == "whitted";
+    const bool lit = name == "path" || name == "whitted" || name == "sppm";
     EXPECT_EQ(render(integrator, {"--max-depth", "3"}).code == 0, lit) << name;
     EXPECT_EQ(render(integrator, {"--light-samples", "3"}).code == 0, lit) << name;
-    EXPECT_EQ(render(integrator, {"--env-color", "1,1,1"}).code == 0, name == "path") << name;
+    EXPECT_EQ(render(integrator, {"--env-color", "1,1,1"}).code == 0, name == "path" || name == "sppm") << name;
+    EXPECT_EQ(render(integrator, {"--photons", "50"}).code == 0, name == "sppm") << name;
+    EXPECT_EQ(render(integrator, {"--sppm-radius", "0.1"}).code == 0, name == "sppm") << name;
   }
 }
 

@@ -1,0 +1,365 @@
+#include "render/sppm.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <glm/geometric.hpp>
+
+#include "accel/ray_offset.h"
+#include "render/bsdf.h"
+#include "render/coverage.h"
+#include "render/light_sampling.h"
+#include "render/shading_inputs.h"
+#include "render/shadow_ray.h"
+#include "render/surface_bsdf.h"
+
+namespace lancer {
+
+namespace {
+
+// As the path tracer (path.cpp): roulette from the fourth bounce on, survival
+// min(1, sqrt(max throughput component)), at least 5 %.
+constexpr int kRouletteDepth = 3;
+constexpr float kMinSurvival = 0.05f;
+
+// A camera path's bounce: the path tracer's layout (path.cpp), so that its first bounce
+// draws the same kind of value from the same dimensions.
+constexpr std::uint32_t kLightPickDimension = 0;
+constexpr std::uint32_t kLightPointDimensions = 1;   // and 2
+constexpr std::uint32_t kEnvironmentDimensions = 3;  // and 4
+constexpr std::uint32_t kSplitDimension = 5;
+constexpr std::uint32_t kBsdfDimensions = 6;  // and 7
+constexpr std::uint32_t kRouletteDimension = 8;
+constexpr std::uint32_t kBounceDimensions = 9;
+constexpr std::uint32_t kLightDimensions = 3;
+
+// A photon: where it leaves the light, then per surface met the same three uses.
+constexpr std::uint32_t kEmitPickDimension = 0;
+constexpr std::uint32_t kEmitPositionDimensions = 1;   // and 2
+constexpr std::uint32_t kEmitDirectionDimensions = 3;  // and 4
+constexpr std::uint32_t kEmitDimensions = 5;
+constexpr std::uint32_t kPhotonSplitDimension = 0;
+constexpr std::uint32_t kPhotonBsdfDimensions = 1;  // and 2
+constexpr std::uint32_t kPhotonRouletteDimension = 3;
+constexpr std::uint32_t kPhotonBounceDimensions = 4;
+// Photon streams are told apart from pixel streams by a y no image has.
+constexpr std::uint32_t kPhotonStreamY = 0xFFFFFFFFu;
+
+float power_heuristic(float a, float b) {
+  if (!(a > 0.0f)) return 0.0f;
+  if (std::isinf(a)) return 1.0f;
+  const float a2 = a * a, b2 = b * b;
+  return std::isfinite(b2) ? a2 / (a2 + b2) : 0.0f;
+}
+
+float max_component(const glm::vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
+bool is_black(const glm::vec3& v) { return v.x <= 0.0f && v.y <= 0.0f && v.z <= 0.0f; }
+bool is_finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+// As path.cpp: Beer-Lambert inside a KHR_materials_volume boundary, never in a thin wall.
+bool volume_absorption(const ShadingInputs& si, glm::vec3& sigma_a) {
+  if (si.thin_walled || !(si.attenuation_distance > 0.0f) || !std::isfinite(si.attenuation_distance))
+    return false;
+  const glm::vec3 c = glm::max(si.attenuation_color, glm::vec3(1e-6f));
+  sigma_a = -glm::log(c) / si.attenuation_distance;
+  return true;
+}
+
+Ray spawn(const Scene& scene, const ShadingInputs& si, const glm::vec3& dir) {
+  Ray r;
+  r.org = SurfaceOffset(si.p, si.ng, triangle_corners(scene.triangles, si.prim)).origin(dir);
+  r.dir = dir;
+  return r;
+}
+
+// The BSDF at a shading point with its folding (shading_inputs.h) applied: what both kinds
+// of path and the gather ask of a surface.
+struct Scattering {
+  const ShadingInputs& si;
+  Bsdf bsdf;
+  Bsdf::Outgoing out;
+  bool leaning;
+
+  Scattering(const ShadingInputs& s, const glm::vec3& wo)
+      : si(s), bsdf(surface_bsdf(s)), out(bsdf.outgoing(wo)), leaning(s.ns != s.ng) {}
+
+  BsdfEval evaluate(const glm::vec3& wi) const {
+    if (!leaning) return bsdf.evaluate(out, wi);
+    return evaluate_folded<BsdfEval>(si, wi, [&](const glm::vec3& w) { return bsdf.evaluate(out, w); });
+  }
+  // A sampled direction, folded, with the density MIS sees (path.cpp).
+  std::optional<BsdfSample> sample(float u_split, glm::vec2 u) const {
+    std::optional<BsdfSample> bs = bsdf.sample(out, u_split, u);
+    if (!bs) return bs;
+    const glm::vec3 drawn = bs->wi;
+    if (leaning && !fold_direction(si, bs->wi)) return std::nullopt;
+    if (leaning && !bs->delta) {
+      if (bs->wi != drawn)
+        bs->pdf += bsdf.evaluate(out, bs->wi).pdf;
+      else if (const glm::vec3 m = mirror_through_surface(si, bs->wi); !sides_agree(si, m))
+        bs->pdf += bsdf.evaluate(out, m).pdf;
+    }
+    return bs;
+  }
+};
+
+}  // namespace
+
+SppmIntegrator::SppmIntegrator(const Scene& scene, const Accelerator& accel, const AreaLights& area_lights,
+                               const LightEmission& emission, const Environment* environment, int max_depth,
+                               int light_samples)
+    : scene_(scene),
+      accel_(accel),
+      area_lights_(area_lights),
+      emission_(emission),
+      environment_(environment),
+      max_depth_(max_depth),
+      light_samples_(std::max(1, light_samples)),
+      has_coverage_(scene_has_coverage(scene)) {}
+
+SppmIntegrator::CameraPath SppmIntegrator::camera_path(const Ray& camera_ray, const Hit& camera_hit,
+                                                       SobolSampler& sampler, std::uint64_t& rays) const {
+  CameraPath result;
+  glm::vec3& L = result.L;
+  glm::vec3 beta(1.0f);
+  Ray ray = camera_ray;
+  Hit hit = camera_hit;
+  int bounces = 0, crossings = 0;
+  float travelled = 0.0f;  // from the last scattering point, through surfaces passed
+  float distance = 0.0f;   // from the camera, for the visible point's footprint
+  float prev_pdf = 0.0f;
+  bool prev_delta = true;
+  bool in_volume = false;
+  glm::vec3 sigma_a(0.0f);
+  for (;;) {
+    const float dir_length = glm::length(ray.dir);
+    const glm::vec3 dir = ray.dir / dir_length;
+    if (!hit.valid()) {
+      if (environment_) {
+        const float w = prev_delta ? 1.0f : power_heuristic(prev_pdf, environment_->pdf(dir));
+        L += beta * environment_->radiance(dir) * w;
+      }
+      break;
+    }
+    const float segment = hit.t * dir_length;
+    if (in_volume) beta *= glm::exp(-sigma_a * segment);
+    const ShadingInputs si = evaluate_shading(scene_, ray, hit);
+    const std::uint32_t dims = sampler.dimension();
+    sampler.skip(kBounceDimensions + kLightDimensions * (light_samples_ - 1));
+
+    float u_roulette = -1.0f;
+    if (si.alpha < 1.0f && crossings < kMaxCrossings) {  // coverage: as path.cpp
+      bool through = !(si.alpha > 0.0f);
+      if (!through) {
+        const float u = sampler.get1(dims + kRouletteDimension);
+        through = u >= si.alpha;
+        u_roulette = std::min(u / si.alpha, 0x1.fffffep-1f);
+      }
+      if (through) {
+        travelled += segment;
+        distance += segment;
+        ++crossings;
+        ray = continue_past(scene_, ray, hit);
+        ++rays;
+        hit = accel_.intersect(ray);
+        continue;
+      }
+    }
+    distance += segment;
+
+    if (emits_toward(*si.material, si.front_face) && !is_black(si.emission)) {
+      float w = 1.0f;
+      if (!prev_delta) {
+        const float pdf_area = area_lights_.pdf_area(hit.prim);
+        const float cos_l = std::abs(glm::dot(si.ng, dir));
+        const float d = travelled + segment;
+        if (pdf_area > 0.0f && cos_l > 0.0f) w = power_heuristic(prev_pdf, light_samples_ * (pdf_area * d * d / cos_l));
+      }
+      L += beta * si.emission * w;
+    }
+    if (si.unlit) {
+      L += beta * si.base_color;
+      break;
+    }
+    // Light from further bounces needs one more: none at the last.
+    if (bounces >= max_depth_) break;
+
+    const Scattering sc(si, -dir);
+    const bool non_delta = !sc.bsdf.is_delta_only();
+    // A visible point on a diffuse surface, or on a glossy one where the path may bounce
+    // only once more (the photons bring the rest).
+    const bool visible_point = non_delta && (sc.bsdf.has_diffuse() || bounces + 1 >= max_depth_);
+    if (non_delta) {
+      // Next-event estimation: MIS with the BSDF sample where the path goes on by sampling
+      // the non-delta lobes, in full at a visible point (its BSDF is not sampled; the
+      // photons bring only light that has bounced).
+      const SurfaceOffset leave(si.p, si.ng, triangle_corners(scene_.triangles, hit.prim));
+      auto add_light = [&](const ShadowAim& aim, const glm::vec3& contribution) {
+        const Ray shadow = shadow_ray(aim, shadow_origin(leave, aim));
+        L += contribution * shadow_visibility(scene_, accel_, shadow, has_coverage_, rays);
+      };
+      for (int k = 0; k < light_samples_ && !area_lights_.empty(); ++k) {
+        const std::uint32_t at = k == 0 ? dims : dims + kBounceDimensions + kLightDimensions * (k - 1);
+        const LightSample ls = sample_area_light(scene_, area_lights_, si.p, sampler.get1(at + kLightPickDimension),
+                                                 sampler.get2(at + kLightPointDimensions));
+        if (!ls.valid) continue;
+        const BsdfEval e = sc.evaluate(ls.wi);
+        if (is_black(e.f)) continue;
+        const float light_pdf = light_samples_ * ls.pdf_solid_angle();
+        const float w = visible_point ? 1.0f : power_heuristic(light_pdf, e.pdf);
+        add_light(aim_at_area_light(ls.point.point, ls.point.normal), beta * e.f * ls.radiance * (w / light_pdf));
+      }
+      if (environment_) {
+        const EnvSample es = environment_->sample(sampler.get2(dims + kEnvironmentDimensions));
+        const BsdfEval e = es.pdf > 0.0f ? sc.evaluate(es.dir) : BsdfEval{};
+        if (!is_black(e.f) && !is_black(es.radiance)) {
+          const float w = visible_point ? 1.0f : power_heuristic(es.pdf, e.pdf);
+          add_light(aim_along(es.dir), beta * e.f * es.radiance * (w / es.pdf));
+        }
+      }
+      for (const PunctualLight& light : scene_.lights) {
+        const PunctualIncidence in = illuminate(light, si.p);
+        if (is_black(in.irradiance)) continue;
+        const glm::vec3 f = sc.evaluate(in.wi).f;
+        if (!is_black(f)) add_light(aim_at_punctual(light, in.wi), beta * f * in.irradiance);
+      }
+    }
+
+    const float u_split = sc.bsdf.reads_split() ? sampler.get1(dims + kSplitDimension) : 0.0f;
+    const glm::vec2 u_bsdf = sampler.get2(dims + kBsdfDimensions);
+    std::optional<BsdfSample> bs;
+    if (visible_point) {
+      // The non-delta lobes are the visible point's; a delta lobe of the same BSDF (a smooth
+      // coat over a diffuse base) goes on with the probability sample() gives it, the visible
+      // point taking the rest. (A delta sample whose direction does not exist, a coat
+      // direction below a normal-mapped base, leaves its share to the visible point.)
+      const float p_delta = sc.bsdf.delta_probability(sc.out);
+      if (p_delta > 0.0f) bs = sc.sample(u_split, u_bsdf);
+      if (!bs || !bs->delta) {
+        if (p_delta < 1.0f) {
+          result.vp = {ray, hit, beta / (1.0f - p_delta), distance, bounces, true};
+          if (!is_finite(result.vp.beta)) result.vp.valid = false;
+        }
+        break;
+      }
+    } else {
+      bs = sc.sample(u_split, u_bsdf);
+      if (!bs) break;
+    }
+    beta *= bs->weight;
+    if (is_black(beta) || !is_finite(beta)) break;
+    prev_pdf = bs->pdf;
+    prev_delta = bs->delta;
+    if (bs->transmitted && !si.thin_walled) in_volume = si.front_face && volume_absorption(si, sigma_a);
+    travelled = 0.0f;
+    crossings = 0;
+    if (++bounces >= kRouletteDepth) {
+      const float survive = std::max(kMinSurvival, std::min(1.0f, std::sqrt(max_component(beta))));
+      if ((u_roulette >= 0.0f ? u_roulette : sampler.get1(dims + kRouletteDimension)) >= survive) break;
+      beta /= survive;
+    }
+    ray = spawn(scene_, si, bs->wi);
+    ++rays;
+    hit = accel_.intersect(ray);
+  }
+  if (!is_finite(L)) L = glm::vec3(0.0f);
+  return result;
+}
+
+void SppmIntegrator::trace_photon(std::uint64_t index, std::uint64_t seed, std::vector<Photon>& out,
+                                  std::uint64_t& rays) const {
+  SobolSampler sampler(static_cast<std::uint32_t>(index >> 32), kPhotonStreamY, static_cast<std::uint32_t>(index),
+                       seed);
+  const EmittedPhoton emitted =
+      emission_.sample(sampler.get1(kEmitPickDimension), sampler.get2(kEmitPositionDimensions),
+                       sampler.get2(kEmitDirectionDimensions));
+  sampler.skip(kEmitDimensions);
+  if (!emitted.valid) return;
+  const float start_power = max_component(emitted.power);
+  if (!(start_power > 0.0f) || !std::isfinite(start_power)) return;
+  glm::vec3 beta = emitted.power;
+  Ray ray = emitted.ray;
+  int bounces = 0, crossings = 0;
+  float from_light = 0.0f;  // distance travelled before the first scattering (the range window)
+  bool in_volume = false;
+  glm::vec3 sigma_a(0.0f);
+  for (;;) {
+    ++rays;
+    const Hit hit = accel_.intersect(ray);
+    if (!hit.valid()) return;
+    const float dir_length = glm::length(ray.dir);
+    const glm::vec3 dir = ray.dir / dir_length;
+    const float segment = hit.t * dir_length;
+    if (in_volume) beta *= glm::exp(-sigma_a * segment);
+    const ShadingInputs si = evaluate_shading(scene_, ray, hit);
+    const std::uint32_t dims = sampler.dimension();
+    sampler.skip(kPhotonBounceDimensions);
+    float u_roulette = -1.0f;
+    if (si.alpha < 1.0f && crossings < kMaxCrossings) {
+      bool through = !(si.alpha > 0.0f);
+      if (!through) {
+        const float u = sampler.get1(dims + kPhotonRouletteDimension);
+        through = u >= si.alpha;
+        u_roulette = std::min(u / si.alpha, 0x1.fffffep-1f);
+      }
+      if (through) {
+        if (bounces == 0) from_light += segment;
+        ++crossings;
+        ray = continue_past(scene_, ray, hit);
+        continue;
+      }
+    }
+    if (bounces == 0 && emitted.range > 0.0f) {
+      beta *= range_window(from_light + segment, emitted.range);
+      if (is_black(beta)) return;
+    }
+    if (si.unlit) return;  // shows its colour, scatters nothing
+    const glm::vec3 wo = -dir;  // back towards the light
+    const Scattering sc(si, wo);
+    // Light that has bounced at least once: direct light is next-event estimation's.
+    if (bounces > 0 && sc.bsdf.has_diffuse()) out.push_back({si.p, wo, beta, static_cast<std::uint32_t>(bounces)});
+    // A photon is useful only to a visible point at least one scattering event before it.
+    if (bounces + 1 >= max_depth_) return;
+    const float u_split = sc.bsdf.reads_split() ? sampler.get1(dims + kPhotonSplitDimension) : 0.0f;
+    const std::optional<BsdfSample> bs = sc.sample(u_split, sampler.get2(dims + kPhotonBsdfDimensions));
+    if (!bs) return;
+    // Veach's adjoint with shading normals (1997, eq. 5.17): the BSDF's cosine is with ns at
+    // the sampled direction; flux through the surface needs |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|).
+    const float wo_ng = std::abs(glm::dot(wo, si.ng)), wi_ns = std::abs(glm::dot(bs->wi, si.ns));
+    if (!(wo_ng > 0.0f) || !(wi_ns > 0.0f)) return;
+    const float correction = std::abs(glm::dot(wo, si.ns)) * std::abs(glm::dot(bs->wi, si.ng)) / (wo_ng * wi_ns);
+    beta *= bs->weight * correction;
+    if (is_black(beta) || !is_finite(beta)) return;
+    if (bs->transmitted && !si.thin_walled) in_volume = si.front_face && volume_absorption(si, sigma_a);
+    crossings = 0;
+    if (++bounces >= kRouletteDepth) {
+      // Relative to the power it left the light with: the same rule as a camera path's.
+      const float survive =
+          std::max(kMinSurvival, std::min(1.0f, std::sqrt(max_component(beta) / start_power)));
+      if ((u_roulette >= 0.0f ? u_roulette : sampler.get1(dims + kPhotonRouletteDimension)) >= survive) return;
+      beta /= survive;
+    }
+    ray = spawn(scene_, si, bs->wi);
+  }
+}
+
+SppmIntegrator::Gathered SppmIntegrator::gather(const VisiblePoint& vp, const PhotonGrid& grid, float radius) const {
+  Gathered g;
+  if (!vp.valid) return g;
+  const ShadingInputs si = evaluate_shading(scene_, vp.ray, vp.hit);
+  const Scattering sc(si, -glm::normalize(vp.ray.dir));
+  // Photons whose path, with the camera path's, scatters at most max_depth times.
+  const auto most_bounces = static_cast<std::uint32_t>(std::max(0, max_depth_ - vp.bounces - 1));
+  grid.for_each_within(si.p, radius, [&](const Photon& ph) {
+    if (ph.bounces > most_bounces) return;
+    ++g.count;
+    // Flux per unit of the true surface's area: f |wi.ns| (what evaluate gives) / |wi.ng|.
+    const float cos_g = std::abs(glm::dot(ph.wi, si.ng));
+    if (!(cos_g > 0.0f)) return;
+    const glm::vec3 f = sc.evaluate(ph.wi).f;
+    if (!is_black(f)) g.phi += ph.power * f / cos_g;
+  });
+  return g;
+}
+
+}  // namespace lancer

@@ -72,37 +72,6 @@ Ray spawn(const Scene& scene, const ShadingInputs& si, const glm::vec3& dir) {
   return r;
 }
 
-// The BSDF at a shading point with its folding (shading_inputs.h) applied: what both kinds
-// of path and the gather ask of a surface.
-struct Scattering {
-  const ShadingInputs& si;
-  Bsdf bsdf;
-  Bsdf::Outgoing out;
-  bool leaning;
-
-  Scattering(const ShadingInputs& s, const glm::vec3& wo)
-      : si(s), bsdf(surface_bsdf(s)), out(bsdf.outgoing(wo)), leaning(s.ns != s.ng) {}
-
-  BsdfEval evaluate(const glm::vec3& wi) const {
-    if (!leaning) return bsdf.evaluate(out, wi);
-    return evaluate_folded<BsdfEval>(si, wi, [&](const glm::vec3& w) { return bsdf.evaluate(out, w); });
-  }
-  // A sampled direction, folded, with the density MIS sees (path.cpp).
-  std::optional<BsdfSample> sample(float u_split, glm::vec2 u) const {
-    std::optional<BsdfSample> bs = bsdf.sample(out, u_split, u);
-    if (!bs) return bs;
-    const glm::vec3 drawn = bs->wi;
-    if (leaning && !fold_direction(si, bs->wi)) return std::nullopt;
-    if (leaning && !bs->delta) {
-      if (bs->wi != drawn)
-        bs->pdf += bsdf.evaluate(out, bs->wi).pdf;
-      else if (const glm::vec3 m = mirror_through_surface(si, bs->wi); !sides_agree(si, m))
-        bs->pdf += bsdf.evaluate(out, m).pdf;
-    }
-    return bs;
-  }
-};
-
 }  // namespace
 
 SppmIntegrator::SppmIntegrator(const Scene& scene, const Accelerator& accel, const AreaLights& area_lights,
@@ -184,7 +153,7 @@ SppmIntegrator::CameraPath SppmIntegrator::camera_path(const Ray& camera_ray, co
     // Light from further bounces needs one more: none at the last.
     if (bounces >= max_depth_) break;
 
-    const Scattering sc(si, -dir);
+    const SurfaceScattering sc(si, -dir);
     const bool non_delta = !sc.bsdf.is_delta_only();
     // A visible point on a diffuse surface, or on a glossy one where the path may bounce
     // only once more (the photons bring the rest).
@@ -315,7 +284,7 @@ void SppmIntegrator::trace_photon(std::uint64_t index, std::uint64_t seed, std::
     }
     if (si.unlit) return;  // shows its colour, scatters nothing
     const glm::vec3 wo = -dir;  // back towards the light
-    const Scattering sc(si, wo);
+    const SurfaceScattering sc(si, wo);
     // Light that has bounced at least once: direct light is next-event estimation's.
     if (bounces > 0 && sc.bsdf.has_diffuse()) out.push_back({si.p, wo, beta, static_cast<std::uint32_t>(bounces)});
     // A photon is useful only to a visible point at least one scattering event before it.
@@ -347,7 +316,7 @@ SppmIntegrator::Gathered SppmIntegrator::gather(const VisiblePoint& vp, const Ph
   Gathered g;
   if (!vp.valid) return g;
   const ShadingInputs si = evaluate_shading(scene_, vp.ray, vp.hit);
-  const Scattering sc(si, -glm::normalize(vp.ray.dir));
+  const SurfaceScattering sc(si, -glm::normalize(vp.ray.dir));
   // Photons whose path, with the camera path's, scatters at most max_depth times.
   const auto most_bounces = static_cast<std::uint32_t>(std::max(0, max_depth_ - vp.bounces - 1));
   grid.for_each_within(si.p, radius, [&](const Photon& ph) {

@@ -2,6 +2,11 @@
 // it (the path tracer, the photon mapper's camera and photon paths).
 #pragma once
 
+#include <optional>
+
+#include <glm/vec2.hpp>
+#include <glm/vec3.hpp>
+
 #include "render/bsdf.h"
 #include "render/shading_inputs.h"
 
@@ -19,5 +24,40 @@ inline Bsdf surface_bsdf(const ShadingInputs& si) {
   inputs.sheen_roughness = si.sheen_roughness;
   return Bsdf(inputs, ShadingFrame::from_orthonormal(si.ns, si.tangent), si.front_face);
 }
+
+// The BSDF at a shading point seen from wo, folded where the shading and geometric normals
+// disagree (shading_inputs.h): what a path, a photon and a gather ask of a surface. `si` must
+// outlive it.
+struct SurfaceScattering {
+  const ShadingInputs& si;
+  Bsdf bsdf;
+  Bsdf::Outgoing out;
+  bool leaning;  // ns != ng: some directions fold
+
+  SurfaceScattering(const ShadingInputs& s, const glm::vec3& wo)
+      : si(s), bsdf(surface_bsdf(s)), out(bsdf.outgoing(wo)), leaning(s.ns != s.ng) {}
+
+  // f |cos(wi, ns)| and the density, folded.
+  BsdfEval evaluate(const glm::vec3& wi) const {
+    if (!leaning) return bsdf.evaluate(out, wi);
+    return evaluate_folded<BsdfEval>(si, wi, [&](const glm::vec3& w) { return bsdf.evaluate(out, w); });
+  }
+  // A sampled direction, folded, with the density multiple importance sampling sees: the
+  // drawn density plus that of the direction's other preimage near a leaning normal
+  // (path.cpp does the same inline). nullopt: absorbed, or folded out of reach.
+  std::optional<BsdfSample> sample(float u_split, glm::vec2 u) const {
+    std::optional<BsdfSample> bs = bsdf.sample(out, u_split, u);
+    if (!bs) return bs;
+    const glm::vec3 drawn = bs->wi;
+    if (leaning && !fold_direction(si, bs->wi)) return std::nullopt;
+    if (leaning && !bs->delta) {
+      if (bs->wi != drawn)
+        bs->pdf += bsdf.evaluate(out, bs->wi).pdf;
+      else if (const glm::vec3 m = mirror_through_surface(si, bs->wi); !sides_agree(si, m))
+        bs->pdf += bsdf.evaluate(out, m).pdf;
+    }
+    return bs;
+  }
+};
 
 }  // namespace lancer

@@ -14,6 +14,7 @@
 #include "report_json.h"
 #include "report_markdown.h"
 #include "report_svg.h"
+#include "caustic_bench.h"
 #include "render_bench.h"
 #include "simd/out_of_memory.h"
 
@@ -35,8 +36,17 @@ int run_render(int argc, char** argv) {
                           std::cerr);
 }
 
+// `lancer bench --caustics ...`: photon mapping against path tracing at equal time.
+int run_caustics(int argc, char** argv) {
+  int code = 0;
+  const auto options = parse_caustic_bench_options(argc, argv, std::cout, std::cerr, code);
+  if (!options) return code;
+  return run_caustic_bench(*options, kScenesDir, std::cout, std::cerr);
+}
+
 int run(int argc, char** argv) {
   if (argc > 1 && std::string_view(argv[1]) == "--render") return run_render(argc - 1, argv + 1);
+  if (argc > 1 && std::string_view(argv[1]) == "--caustics") return run_caustics(argc - 1, argv + 1);
   int code = 0;
   const auto options = parse_bench_options(argc, argv, kDefaultModels, std::cout, std::cerr, code);
   if (!options) return code;

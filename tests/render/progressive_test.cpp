@@ -196,5 +196,73 @@ TEST(Progressive, TimeLimitEndsTheRender) {
   EXPECT_GE(stats.passes, 1);
 }
 
+// The photon mapper is progressive the same way, an iteration being its pass: the image after
+// k iterations is the k-iteration render's, bit for bit, and the stop flag and the time limit
+// end it between iterations.
+RenderSettings sppm_settings(int iterations, int threads) {
+  RenderSettings s = settings(iterations, threads);
+  s.integrator = IntegratorKind::Sppm;
+  s.photons = 2000;
+  return s;
+}
+
+TEST(ProgressiveSppm, CheckpointAfterKIterationsIsTheKIterationImage) {
+  const KdTree kd(cornell().triangles);
+  std::vector<ImageRGB> checkpoints;
+  std::vector<int> passes;
+  RenderControl control;
+  control.checkpoint_s = 1e-9;
+  control.on_checkpoint = [&](const ImageRGB& image, int k) {
+    checkpoints.push_back(image);
+    passes.push_back(k);
+  };
+  RenderStats stats;
+  const ImageRGB full = render(kd, sppm_settings(4, 2), stats, {}, control);
+  EXPECT_EQ(stats.passes, 4);
+  EXPECT_FALSE(stats.stopped);
+  ASSERT_EQ(passes, (std::vector<int>{1, 2, 3}));
+  for (int k = 1; k <= 3; ++k) {
+    RenderStats st;
+    EXPECT_TRUE(same_bits(checkpoints[static_cast<std::size_t>(k - 1)], render(kd, sppm_settings(k, 1), st)))
+        << "checkpoint after " << k << " iterations";
+  }
+  RenderStats st;
+  EXPECT_TRUE(same_bits(full, render(kd, sppm_settings(4, 1), st)));
+}
+
+TEST(ProgressiveSppm, StopFlagAndTimeLimitEndTheRender) {
+  const KdTree kd(cornell().triangles);
+  {
+    std::atomic<int> stop{0};
+    RenderControl control;
+    control.stop = &stop;
+    std::thread stopper([&] {
+      std::this_thread::sleep_for(std::chrono::milliseconds(200));
+      stop.store(2);
+    });
+    RenderStats stats;
+    const ImageRGB image = render(kd, sppm_settings(1 << 20, 2), stats, {}, control);
+    stopper.join();
+    EXPECT_TRUE(stats.stopped);
+    EXPECT_GE(stats.passes, 1);
+    double sum = 0.0;
+    for (float v : image.rgb) {
+      ASSERT_TRUE(std::isfinite(v));
+      sum += v;
+    }
+    EXPECT_GT(sum, 0.0);
+  }
+  RenderControl control;
+  control.time_limit_s = 0.3;
+  RenderStats stats;
+  const auto t0 = std::chrono::steady_clock::now();
+  render(kd, sppm_settings(1 << 20, 2), stats, {}, control);
+  const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_TRUE(stats.stopped);
+  EXPECT_GE(took, 0.3);
+  EXPECT_LT(took, 5.0);
+  EXPECT_GE(stats.passes, 1);
+}
+
 }  // namespace
 }  // namespace lancer

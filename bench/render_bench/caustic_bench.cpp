@@ -128,6 +128,55 @@ std::string fixed(double v, int digits) {
   return s.str();
 }
 
+// Error against time on log-log axes, one polyline per integrator and region (whole image
+// solid, the region dashed), a plain SVG written by hand.
+std::string plot_svg(const std::vector<Run>& runs, const std::string& title) {
+  constexpr double kW = 640, kH = 420, kLeft = 70, kRight = 20, kTop = 40, kBottom = 50;
+  double t0 = 1e300, t1 = 0, e0 = 1e300, e1 = 0;
+  for (const Run& r : runs)
+    for (const Point& p : r.curve)
+      for (double e : {p.mse_whole, p.mse_region})
+        if (e > 0.0 && p.seconds > 0.0) t0 = std::min(t0, p.seconds), t1 = std::max(t1, p.seconds),
+                                        e0 = std::min(e0, e), e1 = std::max(e1, e);
+  if (!(t1 > t0) || !(e1 > e0)) return {};
+  const double lt0 = std::floor(std::log10(t0)), lt1 = std::ceil(std::log10(t1));
+  const double le0 = std::floor(std::log10(e0)), le1 = std::ceil(std::log10(e1));
+  auto x = [&](double t) { return kLeft + (std::log10(t) - lt0) / (lt1 - lt0) * (kW - kLeft - kRight); };
+  auto y = [&](double e) { return kTop + (le1 - std::log10(e)) / (le1 - le0) * (kH - kTop - kBottom); };
+  std::ostringstream s;
+  s << "<svg xmlns='http://www.w3.org/2000/svg' width='" << kW << "' height='" << kH
+    << "' font-family='sans-serif' font-size='12'>\n<rect width='100%' height='100%' fill='white'/>\n"
+    << "<text x='" << kW / 2 << "' y='20' text-anchor='middle' font-size='14'>" << title << "</text>\n";
+  for (double l = lt0; l <= lt1; ++l)
+    s << "<line x1='" << x(std::pow(10, l)) << "' y1='" << kTop << "' x2='" << x(std::pow(10, l)) << "' y2='"
+      << kH - kBottom << "' stroke='#ddd'/><text x='" << x(std::pow(10, l)) << "' y='" << kH - kBottom + 16
+      << "' text-anchor='middle'>" << std::pow(10, l) << " s</text>\n";
+  for (double l = le0; l <= le1; ++l)
+    s << "<line x1='" << kLeft << "' y1='" << y(std::pow(10, l)) << "' x2='" << kW - kRight << "' y2='"
+      << y(std::pow(10, l)) << "' stroke='#ddd'/><text x='" << kLeft - 6 << "' y='" << y(std::pow(10, l)) + 4
+      << "' text-anchor='end'>1e" << int(l) << "</text>\n";
+  s << "<text x='" << kW / 2 << "' y='" << kH - 10 << "' text-anchor='middle'>render time</text>\n"
+    << "<text x='16' y='" << kH / 2 << "' transform='rotate(-90 16 " << kH / 2
+    << ")' text-anchor='middle'>mean squared error</text>\n";
+  const char* colours[] = {"#c0392b", "#2471a3", "#27ae60", "#8e44ad"};
+  int legend = 0;
+  for (std::size_t i = 0; i < runs.size(); ++i)
+    for (int region = 0; region < 2; ++region) {
+      s << "<polyline fill='none' stroke='" << colours[i % 4] << "' stroke-width='2'"
+        << (region ? " stroke-dasharray='6 4'" : "") << " points='";
+      for (const Point& p : runs[i].curve) {
+        const double e = region ? p.mse_region : p.mse_whole;
+        if (e > 0.0 && p.seconds > 0.0) s << x(p.seconds) << "," << y(e) << " ";
+      }
+      const double slope_value = region ? runs[i].slope_region : runs[i].slope_whole;
+      s << "'/>\n<text x='" << kW - kRight - 230 << "' y='" << kTop + 16 + 16 * legend++ << "' fill='"
+        << colours[i % 4] << "'>" << runs[i].integrator << (region ? ", caustic region" : ", whole image")
+        << " (slope " << fixed(slope_value, 2) << ")</text>\n";
+    }
+  s << "</svg>\n";
+  return s.str();
+}
+
 }  // namespace
 
 int run_caustic_bench(const CausticBenchOptions& o, const fs::path& scenes_dir, std::ostream& out, std::ostream& err) {
@@ -216,6 +265,15 @@ int run_caustic_bench(const CausticBenchOptions& o, const fs::path& scenes_dir, 
     for (const Point& p : r.curve)
       out << "| " << r.integrator << " | " << fixed(p.seconds, 2) << " | " << p.passes << " | " << sci(p.mse_whole)
           << " | " << sci(p.mse_region) << " |\n";
+  if (!o.plot.empty()) {
+    std::ofstream f(o.plot);
+    f << plot_svg(runs, o.scene + ", " + std::to_string(o.size) + " px, " + std::to_string(o.threads) +
+                            " threads: error against time");
+    if (!f) {
+      err << "lancer bench --caustics: cannot write " << o.plot << "\n";
+      return 1;
+    }
+  }
   if (!o.json.empty()) {
     nlohmann::json j;
     j["scene"] = o.scene, j["size"] = o.size, j["seconds"] = o.seconds, j["threads"] = o.threads;

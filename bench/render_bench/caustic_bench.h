@@ -29,6 +29,7 @@ struct CausticBenchOptions {
   std::vector<int> region = {140, 220, 188, 242};
   std::filesystem::path cache = "out/render-bench";
   std::string json;
+  std::string plot;  // an SVG of error against time; empty: none
 };
 
 std::optional<CausticBenchOptions> parse_caustic_bench_options(int argc, const char* const* argv, std::ostream& out,

@@ -27,6 +27,7 @@ std::optional<CausticBenchOptions> parse_caustic_bench_options(int argc, const c
       ->delimiter(',')->expected(4)->capture_default_str();
   app.add_option("--cache", o.cache, "Folder for the reference renders, reused between runs")->capture_default_str();
   app.add_option("--json", o.json, "Also write the results as JSON to this file");
+  app.add_option("--plot", o.plot, "Also write the error-against-time curves as an SVG to this file");
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp&) {

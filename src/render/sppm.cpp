@@ -292,12 +292,26 @@ void SppmIntegrator::trace_photon(std::uint64_t index, std::uint64_t seed, std::
     const float u_split = sc.bsdf.reads_split() ? sampler.get1(dims + kPhotonSplitDimension) : 0.0f;
     const std::optional<BsdfSample> bs = sc.sample(u_split, sampler.get2(dims + kPhotonBsdfDimensions));
     if (!bs) return;
-    // Veach's adjoint with shading normals (1997, eq. 5.17): the BSDF's cosine is with ns at
-    // the sampled direction; flux through the surface needs |wo.ns| |wi.ng| / (|wo.ng| |wi.ns|).
-    const float wo_ng = std::abs(glm::dot(wo, si.ng)), wi_ns = std::abs(glm::dot(bs->wi, si.ns));
-    if (!(wo_ng > 0.0f) || !(wi_ns > 0.0f)) return;
-    const float correction = std::abs(glm::dot(wo, si.ns)) * std::abs(glm::dot(bs->wi, si.ng)) / (wo_ng * wi_ns);
-    beta *= bs->weight * correction;
+    // Photons carry flux, so they scatter by the adjoint of the kernel the camera side gathers
+    // with (Veach 1997, sec. 3.7.5 and 5.3): K(wo, wi) = the folded f |wi.ns| with the photon's
+    // way back as wi, and the flux through the true surface needs |b.ng| / |a.ng|, a = wo here
+    // (towards where the photon came from), b its new direction. K is evaluated rather than
+    // assumed symmetric: the folding mirrors only wi, and a rough refraction's BTDF differs
+    // from its transpose by eta^2 (bsdf_base.h, "importance form"). Delta lobes are symmetric.
+    const glm::vec3& b = bs->wi;
+    const float a_ng = std::abs(glm::dot(wo, si.ng));
+    if (!(a_ng > 0.0f)) return;
+    if (bs->delta) {
+      const float b_ns = std::abs(glm::dot(b, si.ns));
+      if (!(b_ns > 0.0f)) return;
+      beta *= bs->weight * (std::abs(glm::dot(wo, si.ns)) * std::abs(glm::dot(b, si.ng)) / (a_ng * b_ns));
+    } else {
+      const Bsdf::Outgoing back = sc.bsdf.outgoing(b);
+      const glm::vec3 k =
+          sc.leaning ? evaluate_folded<glm::vec3>(si, wo, [&](const glm::vec3& w) { return sc.bsdf.evaluate(back, w).f; })
+                     : sc.bsdf.evaluate(back, wo).f;
+      beta *= k * (std::abs(glm::dot(b, si.ng)) / (a_ng * bs->pdf));
+    }
     if (is_black(beta) || !is_finite(beta)) return;
     if (bs->transmitted && !si.thin_walled) in_volume = si.front_face && volume_absorption(si, sigma_a);
     crossings = 0;

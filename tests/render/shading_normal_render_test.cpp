@@ -1,6 +1,6 @@
 // Shading normals that lean away from the geometric normal (normal maps, normals
 // interpolated over a coarse mesh) render without black and without leaks (issue 20),
-// for the path tracer and the Whitted integrator alike:
+// for the path tracer, the photon mapper and the Whitted integrator alike:
 //  - a smooth mirror and a smooth gold quad whose normal map tilts the shading normal by up
 //    to 60 degrees, inside an enclosure that emits radiance 1 everywhere: a lossless mirror
 //    then sees radiance 1 in every direction: the white mirror's pixels stay at the flat
@@ -52,6 +52,8 @@ struct Integrator {
 };
 const Integrator kIntegrators[] = {{"path", IntegratorKind::Path, false},
                                    {"path, uniform environment", IntegratorKind::Path, true},
+                                   {"sppm", IntegratorKind::Sppm, false},
+                                   {"sppm, uniform environment", IntegratorKind::Sppm, true},
                                    {"whitted", IntegratorKind::Whitted, false}};
 
 // The uniform field of `integrator` around `scene`: the enclosure when it is not the
@@ -275,7 +277,7 @@ ImageRGB render_glass_sphere(int slices, const Integrator& integrator) {
   add_field(scene, integrator, 20.0f);
   const PinholeCamera cam = PinholeCamera::look_at({0, 0, 4}, {0, 0, 0}, {0, 1, 0}, 0.55f, 64, 64);
   // Whitted follows both the reflected and the refracted ray at every hit: 12 levels.
-  return integrator.kind == IntegratorKind::Path ? render(scene, cam, integrator, 64, 64)
+  return integrator.kind != IntegratorKind::Whitted ? render(scene, cam, integrator, 64, 64)
                                                  : render(scene, cam, integrator, 4, 12);
 }
 
@@ -291,7 +293,7 @@ TEST(LeaningShadingNormals, CoarseSmoothGlassSphereHasNoDarkRim) {
       const std::string what = std::string(integrator.name) + ", ring " + std::to_string(k) + ": coarse " +
                                std::to_string(coarse[k].mean) + " +- " + std::to_string(coarse[k].stderr_) +
                                ", fine " + std::to_string(fine[k].mean) + " +- " + std::to_string(fine[k].stderr_);
-      if (integrator.kind == IntegratorKind::Path) {
+      if (integrator.kind != IntegratorKind::Whitted) {
         // 1e-4: float rounding over a ring's sum.
         EXPECT_NEAR(fine[k].mean, 1.0, 5.0 * fine[k].stderr_ + 1e-4) << what;
         EXPECT_NEAR(coarse[k].mean, fine[k].mean, 5.0 * std::hypot(coarse[k].stderr_, fine[k].stderr_) + 1e-4)

@@ -237,6 +237,7 @@ SppmIntegrator::CameraPath SppmIntegrator::camera_path(const Ray& camera_ray, co
 
 void SppmIntegrator::trace_photon(std::uint64_t index, std::uint64_t seed, std::vector<Photon>& out,
                                   std::uint64_t& rays) const {
+  if (emission_.empty()) return;  // no light: every photon shot carries nothing
   SobolSampler sampler(static_cast<std::uint32_t>(index >> 32), kPhotonStreamY, static_cast<std::uint32_t>(index),
                        seed);
   const EmittedPhoton emitted =

@@ -16,6 +16,7 @@
 
 #include "accel/kd_tree.h"
 #include "render/bsdf.h"
+#include "render/environment.h"
 #include "render/renderer.h"
 #include "render/sppm_render.h"
 #include "render_test_scenes.h"
@@ -203,6 +204,28 @@ TEST(Sppm, AgreesWithThePathTracerOnTheCornellBox) {
     lit += path.mean[i] > 0.01 && tolerance < 0.02 * path.mean[i];
   }
   EXPECT_GE(lit, 30);  // of 48: the dark channels of the coloured walls aside
+}
+
+// A scene without any light renders black, without a photon (LightEmission::sample must
+// not be called then), and an environment alone lights it.
+TEST(Sppm, SceneWithoutLightsIsBlackAndAnEnvironmentLightsIt) {
+  Scene scene;
+  test::add_square_z(scene, 0.0f, 0.0f, 0.0f, 2.0f, true, test::add_material(scene, test::diffuse_material(glm::vec3(0.5f))));
+  const KdTree accel(scene.triangles);
+  const PinholeCamera camera = PinholeCamera::look_at(glm::vec3(0.0f, 0.0f, 1.0f), glm::vec3(0.0f),
+                                                      glm::vec3(0.0f, 1.0f, 0.0f), 0.8f, 8, 8);
+  RenderSettings s = sppm_settings(8, 4);
+  RenderStats stats;
+  for (float v : render_image(scene, accel, camera, s, stats).rgb) ASSERT_EQ(v, 0.0f);
+  // A constant sky of radiance 1 over a Lambertian plane of albedo 0.5: radiance 0.5, all of
+  // it direct light (next-event estimation at the visible points; no photon can bounce twice).
+  const Environment sky(glm::vec3(1.0f));
+  s.environment = &sky;
+  s.spp = 64;
+  double sum = 0.0;
+  const ImageRGB image = render_image(scene, accel, camera, s, stats);
+  for (float v : image.rgb) sum += v;
+  EXPECT_NEAR(sum / double(image.rgb.size()), 0.5, 0.01);
 }
 
 // ---- Determinism and memory ---------------------------------------------------------------

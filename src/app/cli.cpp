@@ -107,7 +107,8 @@ void add_render_command(CLI::App& app, RenderOptions& opt) {
                      "at the distance of the pixel's first visible point)")
       ->check(CLI::Range(1e-30, 1e30))->type_name("RADIUS");
   render->add_option("--env", opt.env_file,
-                     "Environment: an equirectangular map (.exr, .hdr, .png) lighting the scene (path, sppm and photon only; "
+                     "Environment: an equirectangular map (.exr, .hdr, .png) lighting the scene (path, sppm and photon "
+                     "only; "
                      "default: black)")
       ->type_name("FILE");
   render->add_option("--env-color", opt.env_color, "Environment: a constant colour R,G,B (linear radiance)")
@@ -132,11 +133,13 @@ void add_render_command(CLI::App& app, RenderOptions& opt) {
       ->check(CLI::IsMember({"packet", "single"}))
       ->default_str("packet");
   render->add_option("--max-depth", s.max_depth,
-                     "path, sppm, photon: bounces after the camera ray; whitted: reflection and refraction recursion limit")
+                     "path, sppm, photon: bounces after the camera ray; whitted: reflection and refraction recursion "
+                     "limit")
       ->check(CLI::Range(0, 64))->capture_default_str();
   render->add_option("--light-samples", s.light_samples,
                      "Points sampled on the emissive triangles per shading point, each with a shadow ray (path: at "
-                     "every bounce, combined with BSDF sampling by MIS, as for photon; sppm: at each camera path's non-delta "
+                     "every bounce, combined with BSDF sampling by MIS, as for photon; sppm: at each camera path's "
+                     "non-delta "
                      "vertex; whitted: at each diffuse hit)")
       ->check(CLI::Range(1, 4096))->capture_default_str();
   render->add_option("--threads", s.threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 4096))->capture_default_str();

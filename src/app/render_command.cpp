@@ -90,8 +90,9 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
     if (const auto ignored = integrator_ignores(opt.settings.integrator, opt.given))
       throw std::invalid_argument(*ignored + ": the " + std::string(integrator_name(opt.settings.integrator)) +
                                   " integrator does not use it" +
-                                  (ignored->rfind("--env", 0) == 0 ? " (the environment lights only --integrator path, sppm and photon)"
-                                                                   : ""));
+                                  (ignored->rfind("--env", 0) == 0
+                                       ? " (the environment lights only --integrator path, sppm and photon)"
+                                       : ""));
     if (opt.outputs.empty()) opt.outputs = {"out/render.exr", "out/render.png"};
     for (const auto& o : opt.outputs) {
       std::string ext = std::filesystem::path(o).extension().string();

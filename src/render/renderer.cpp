@@ -56,7 +56,8 @@ void check_settings(const Scene& scene, const PinholeCamera& camera, const Rende
   if (!(s.sppm_radius >= 0.0f) || !std::isfinite(s.sppm_radius)) fail("the sppm radius must be finite and >= 0");
   if (s.caustic_k < 0 || s.caustic_k == 1 || s.caustic_k > kMaxCausticK)
     fail("caustic neighbours must be between 2 and " + std::to_string(kMaxCausticK) + " (0: default)");
-  if (!(s.caustic_radius >= 0.0f) || !std::isfinite(s.caustic_radius)) fail("the caustic radius must be finite and >= 0");
+  if (!(s.caustic_radius >= 0.0f) || !std::isfinite(s.caustic_radius))
+    fail("the caustic radius must be finite and >= 0");
   if (!sppm && !photon && s.photons != 0) fail("photons are for the sppm and photon integrators only");
   if (!sppm && s.sppm_radius != 0.0f) fail("the sppm radius is for the sppm integrator only");
   if (!photon && (s.caustic_k != 0 || s.caustic_radius != 0.0f))

@@ -1,6 +1,7 @@
 #include "app/cli.h"
 
 
+#include <algorithm>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -14,6 +15,7 @@
 #include "app/rays_command.h"
 #include "app/render_command.h"
 #include "app/trace_command.h"
+#include "render/caustic_map.h"
 #include "render/sppm_render.h"
 #include "simd/isa.h"
 
@@ -84,19 +86,29 @@ void add_render_command(CLI::App& app, RenderOptions& opt) {
   render->add_option_function<std::string>(
             "--integrator", [&s](const std::string& name) { s.integrator = *parse_integrator(name); },
             "path (physically based), sppm (stochastic progressive photon mapping: path tracing plus photons for "
-            "caustics; --spp counts iterations), whitted (recursive ray tracing), or the debug views normals, "
-            "albedo, depth, ao (ambient occlusion), primid")
-      ->check(CLI::IsMember({"path", "sppm", "whitted", "normals", "albedo", "depth", "ao", "primid"}))
+            "caustics; --spp counts iterations), photon (the path tracer plus Jensen's caustic photon map, shot "
+            "once before the passes), whitted (recursive ray tracing), or the debug views normals, albedo, depth, "
+            "ao (ambient occlusion), primid")
+      ->check(CLI::IsMember({"path", "sppm", "photon", "whitted", "normals", "albedo", "depth", "ao", "primid"}))
       ->default_str("path");
   render->add_option("--photons", s.photons,
-                     "sppm: photons shot per iteration (default: one per pixel, at most 4194304)")
-      ->check(CLI::Range(std::int64_t(1), kMaxPhotonsPerIteration));
+                     "sppm: photons shot per iteration (default: one per pixel, at most 4194304); photon: caustic "
+                     "photons shot in all (default: four per pixel, at least 200000, at most 4194304)")
+      ->check(CLI::Range(std::int64_t(1), std::max(kMaxPhotonsPerIteration, kMaxCausticPhotons)));
+  render->add_option("--caustic-k", s.caustic_k,
+                     "photon: the photons nearest to a point that estimate its caustic (default: 50)")
+      ->check(CLI::Range(2, kMaxCausticK));
+  render->add_option("--caustic-radius", s.caustic_radius,
+                     "photon: the largest radius the nearest photons are searched within, in scene units (default: "
+                     "1/20 of the radius of the scene's bounding sphere)")
+      ->check(CLI::Range(1e-30, 1e30))->type_name("RADIUS");
   render->add_option("--sppm-radius", s.sppm_radius,
                      "sppm: the gather radius every pixel starts with, in scene units (default: 3 pixel footprints "
                      "at the distance of the pixel's first visible point)")
       ->check(CLI::Range(1e-30, 1e30))->type_name("RADIUS");
   render->add_option("--env", opt.env_file,
-                     "Environment: an equirectangular map (.exr, .hdr, .png) lighting the scene (path and sppm only; "
+                     "Environment: an equirectangular map (.exr, .hdr, .png) lighting the scene (path, sppm and photon "
+                     "only; "
                      "default: black)")
       ->type_name("FILE");
   render->add_option("--env-color", opt.env_color, "Environment: a constant colour R,G,B (linear radiance)")
@@ -121,11 +133,13 @@ void add_render_command(CLI::App& app, RenderOptions& opt) {
       ->check(CLI::IsMember({"packet", "single"}))
       ->default_str("packet");
   render->add_option("--max-depth", s.max_depth,
-                     "path, sppm: bounces after the camera ray; whitted: reflection and refraction recursion limit")
+                     "path, sppm, photon: bounces after the camera ray; whitted: reflection and refraction recursion "
+                     "limit")
       ->check(CLI::Range(0, 64))->capture_default_str();
   render->add_option("--light-samples", s.light_samples,
                      "Points sampled on the emissive triangles per shading point, each with a shadow ray (path: at "
-                     "every bounce, combined with BSDF sampling by MIS; sppm: at each camera path's non-delta "
+                     "every bounce, combined with BSDF sampling by MIS, as for photon; sppm: at each camera path's "
+                     "non-delta "
                      "vertex; whitted: at each diffuse hit)")
       ->check(CLI::Range(1, 4096))->capture_default_str();
   render->add_option("--threads", s.threads, "Worker threads (0: all cores)")->check(CLI::Range(0, 4096))->capture_default_str();

@@ -43,14 +43,17 @@ bool has_light(const Scene& scene) {
 }  // namespace
 
 std::optional<std::string> integrator_ignores(IntegratorKind integrator, const std::vector<std::string>& given) {
-  const bool lit = integrator == IntegratorKind::Path || integrator == IntegratorKind::Whitted ||
-                   integrator == IntegratorKind::Sppm;
-  const bool sppm = integrator == IntegratorKind::Sppm;
+  const bool sppm = integrator == IntegratorKind::Sppm, photon = integrator == IntegratorKind::Photon;
+  const bool paths = integrator == IntegratorKind::Path || sppm || photon;  // lit by the environment too
+  const bool lit = paths || integrator == IntegratorKind::Whitted;
   for (const std::string& option : given) {
     const bool needs_lit = option == "--max-depth" || option == "--light-samples";
     const bool needs_env = option == "--env" || option == "--env-color" || option == "--env-scale";
-    const bool needs_sppm = option == "--photons" || option == "--sppm-radius";
-    if ((needs_lit && !lit) || (needs_env && integrator != IntegratorKind::Path && !sppm) || (needs_sppm && !sppm))
+    const bool needs_photons = option == "--photons";
+    const bool needs_sppm = option == "--sppm-radius";
+    const bool needs_photon = option == "--caustic-k" || option == "--caustic-radius";
+    if ((needs_lit && !lit) || (needs_env && !paths) || (needs_photons && !sppm && !photon) || (needs_sppm && !sppm) ||
+        (needs_photon && !photon))
       return option;
   }
   return std::nullopt;
@@ -87,8 +90,9 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
     if (const auto ignored = integrator_ignores(opt.settings.integrator, opt.given))
       throw std::invalid_argument(*ignored + ": the " + std::string(integrator_name(opt.settings.integrator)) +
                                   " integrator does not use it" +
-                                  (ignored->rfind("--env", 0) == 0 ? " (the environment lights only --integrator path and sppm)"
-                                                                   : ""));
+                                  (ignored->rfind("--env", 0) == 0
+                                       ? " (the environment lights only --integrator path, sppm and photon)"
+                                       : ""));
     if (opt.outputs.empty()) opt.outputs = {"out/render.exr", "out/render.png"};
     for (const auto& o : opt.outputs) {
       std::string ext = std::filesystem::path(o).extension().string();
@@ -103,7 +107,7 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
     const bool lit_by_env = !opt.env_file.empty() || !opt.env_color.empty();
     if (!has_light(scene) && !lit_by_env &&
         (opt.settings.integrator == IntegratorKind::Whitted || opt.settings.integrator == IntegratorKind::Path ||
-         opt.settings.integrator == IntegratorKind::Sppm))
+         opt.settings.integrator == IntegratorKind::Sppm || opt.settings.integrator == IntegratorKind::Photon))
       err << "lancer: warning: " << scene.source << ": the scene has no lights; the image will be black ("
           << (opt.settings.integrator != IntegratorKind::Whitted
                   ? "light it with --env-color R,G,B, a constant sky, or --env FILE, an environment map"

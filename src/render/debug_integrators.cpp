@@ -40,6 +40,7 @@ glm::vec3 debug_radiance_from_hit(IntegratorKind kind, const Scene& scene, const
     case IntegratorKind::Path:
     case IntegratorKind::Whitted:
     case IntegratorKind::Sppm:
+    case IntegratorKind::Photon:
     case IntegratorKind::Ao:
       break;
   }

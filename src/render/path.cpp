@@ -56,14 +56,16 @@ bool volume_absorption(const ShadingInputs& si, glm::vec3& sigma_a) {
 }  // namespace
 
 PathIntegrator::PathIntegrator(const Scene& scene, const Accelerator& accel, const AreaLights& area_lights,
-                               const Environment* environment, int max_depth, int light_samples)
+                               const Environment* environment, int max_depth, int light_samples,
+                               const CausticMap* caustics)
     : scene_(scene),
       accel_(accel),
       area_lights_(area_lights),
       environment_(environment),
       max_depth_(max_depth),
       light_samples_(std::max(1, light_samples)),
-      has_coverage_(scene_has_coverage(scene)) {}
+      has_coverage_(scene_has_coverage(scene)),
+      caustics_(caustics) {}
 
 glm::vec3 PathIntegrator::radiance_from_hit(const Ray& ray, const Hit& hit, SobolSampler& sampler,
                                             std::uint64_t& rays) const {
@@ -238,8 +240,10 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
   glm::vec3& beta = path.beta;
   const float dir_length = glm::length(ray.dir);
   const glm::vec3 dir = ray.dir / dir_length;
+  // Light reached through delta bounces after a non-delta one: the caustic map's.
+  const bool caustic = caustics_ && path.prev_delta && path.scattered;
   if (!hit.valid()) {
-    if (environment_) {
+    if (environment_ && !caustic) {
       const float w = path.prev_delta ? 1.0f : power_heuristic(path.prev_pdf, environment_->pdf(dir));
       L += beta * environment_->radiance(dir) * w;
     }
@@ -287,7 +291,7 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
     }
   }
 
-  if (emits_toward(*si.material, si.front_face) && !is_black(si.emission)) {
+  if (emits_toward(*si.material, si.front_face) && !is_black(si.emission) && !caustic) {
     float w = 1.0f;
     if (!path.prev_delta) {
       const float pdf_area = area_lights_.pdf_area(hit.prim);
@@ -354,6 +358,12 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
       if (is_black(f)) continue;
       queue_shadow(aim_at_punctual(light, in.wi), beta * f * in.irradiance);
     }
+    // Caustics: light that reaches this point through delta bounces, from the photon map.
+    // This vertex is scattering event bounces + 1, so the photons may have bounced
+    // max_depth - bounces - 1 times.
+    if (caustics_)
+      L += beta * caustics_->estimate(si.p, si.ng, max_depth_ - path.bounces - 1,
+                                      [&](const glm::vec3& w) { return evaluate(w).f; }, scratch.caustic);
   }
 
   // Continue the path by sampling the BSDF (the split value only where it is read).
@@ -374,6 +384,7 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
       path.prev_pdf += bsdf.evaluate(wo, m).pdf;
   }
   path.prev_delta = bs->delta;
+  path.scattered |= !bs->delta;
   // Through a volume boundary the path enters (front face) or leaves the medium; through a
   // thin wall it stays where it was.
   if (bs->transmitted && !si.thin_walled) path.in_volume = si.front_face && volume_absorption(si, path.sigma_a);

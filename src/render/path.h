@@ -13,6 +13,10 @@
 // surface is no light (only emissive triangles are sampled), so no MIS weight applies.
 // alphaMode is ignored (every triangle is opaque). The background is black unless an
 // environment is given.
+// With a caustic map (caustic_map.h, `--integrator photon`), every non-delta vertex adds the
+// map's estimate, and a path that has scattered off a non-delta lobe and since then only off
+// delta lobes counts no emission it reaches (emissive triangles, the environment): that light
+// is the map's. Emission seen from the camera through delta bounces only still counts.
 #pragma once
 
 #include <cstdint>
@@ -23,6 +27,7 @@
 
 #include "accel/accelerator.h"
 #include "accel/ray_offset_batch.h"
+#include "render/caustic_map.h"
 #include "render/shadow_ray.h"
 #include "render/environment.h"
 #include "render/lights.h"
@@ -39,8 +44,11 @@ class PathIntegrator {
   // light_samples: points sampled on the emissive triangles at each bounce (at least 1),
   // each with its shadow ray, combined with the BSDF sample by MIS (Veach 1997, 9.2.4,
   // with n_light = light_samples and n_bsdf = 1).
+  // caustics: the caustic photon map the paths add at their non-delta vertices, or null
+  // (plain path tracing).
   PathIntegrator(const Scene& scene, const Accelerator& accel, const AreaLights& area_lights,
-                 const Environment* environment, int max_depth, int light_samples = 1);
+                 const Environment* environment, int max_depth, int light_samples = 1,
+                 const CausticMap* caustics = nullptr);
 
   // Memory radiance_block reuses from call to call (keep one per thread): once it has
   // held the largest wavefront, the bounce loop allocates nothing.
@@ -90,6 +98,7 @@ class PathIntegrator {
   int max_depth_;
   int light_samples_;
   bool has_coverage_;  // some material is MASK or BLEND (render/coverage.h)
+  const CausticMap* caustics_;
 };
 
 // The state of one path between bounces.
@@ -100,6 +109,7 @@ struct PathIntegrator::Path {
   int crossings = 0;        // surfaces passed since then (render/coverage.h, kMaxCrossings)
   float prev_pdf = 0.0f;   // solid-angle pdf of the BSDF sample that made the ray
   bool prev_delta = true;  // the camera ray, or a delta lobe: no light sampling competes
+  bool scattered = false;  // some BSDF sample so far was of a non-delta lobe
   bool in_volume = false;
   glm::vec3 sigma_a{0.0f};
   SobolSampler* sampler = nullptr;
@@ -136,6 +146,7 @@ struct PathIntegrator::Scratch {
   std::unique_ptr<bool[]> blocked;
   std::size_t blocked_capacity = 0;
   PathBatchStats stats;         // added up over every block this scratch served
+  CausticMap::Scratch caustic;  // the caustic map's neighbour heap
 };
 
 }  // namespace lancer

@@ -7,6 +7,7 @@ std::string_view integrator_name(IntegratorKind kind) {
     case IntegratorKind::Path: return "path";
     case IntegratorKind::Whitted: return "whitted";
     case IntegratorKind::Sppm: return "sppm";
+    case IntegratorKind::Photon: return "photon";
     case IntegratorKind::Normals: return "normals";
     case IntegratorKind::Albedo: return "albedo";
     case IntegratorKind::Depth: return "depth";
@@ -17,8 +18,9 @@ std::string_view integrator_name(IntegratorKind kind) {
 }
 
 std::optional<IntegratorKind> parse_integrator(std::string_view name) {
-  for (IntegratorKind k : {IntegratorKind::Path, IntegratorKind::Whitted, IntegratorKind::Sppm, IntegratorKind::Normals,
-                           IntegratorKind::Albedo, IntegratorKind::Depth, IntegratorKind::Ao, IntegratorKind::PrimId})
+  for (IntegratorKind k : {IntegratorKind::Path, IntegratorKind::Whitted, IntegratorKind::Sppm, IntegratorKind::Photon,
+                           IntegratorKind::Normals, IntegratorKind::Albedo, IntegratorKind::Depth, IntegratorKind::Ao,
+                           IntegratorKind::PrimId})
     if (integrator_name(k) == name) return k;
   return std::nullopt;
 }

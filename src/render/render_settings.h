@@ -12,7 +12,7 @@ namespace lancer {
 
 class Environment;
 
-enum class IntegratorKind { Path, Whitted, Sppm, Normals, Albedo, Depth, Ao, PrimId };
+enum class IntegratorKind { Path, Whitted, Sppm, Photon, Normals, Albedo, Depth, Ao, PrimId };
 
 std::string_view integrator_name(IntegratorKind kind);
 std::optional<IntegratorKind> parse_integrator(std::string_view name);
@@ -42,8 +42,15 @@ struct RenderSettings {
   const Environment* environment = nullptr;
   // sppm: photons shot per iteration (0: one per pixel), and the visible points' initial
   // radius in scene units (0: kSppmRadiusPixels pixel footprints at the point's distance).
+  // photon: caustic photons shot in all (0: kCausticPhotonsPerPixel per pixel, at least
+  // kMinDefaultCausticPhotons, at most kMaxDefaultPhotons; render/caustic_render.h).
   std::int64_t photons = 0;
   float sppm_radius = 0.0f;
+  // photon: the neighbours of the density estimate (0: kDefaultCausticK), and the largest
+  // radius they are searched within, in scene units (0: kCausticRadiusOfScene times the
+  // scene's bounding-sphere radius; render/caustic_map.h).
+  int caustic_k = 0;
+  float caustic_radius = 0.0f;
   TraceMode mode = TraceMode::Packet;  // primary rays only; secondary rays are always single
 };
 

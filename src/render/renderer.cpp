@@ -13,8 +13,10 @@
 #include <glm/vec3.hpp>
 #include <tbb/enumerable_thread_specific.h>
 
+#include "render/caustic_map.h"
 #include "render/coverage.h"
 #include "render/debug_integrators.h"
+#include "render/light_emission.h"
 #include "render/lights.h"
 #include "render/path.h"
 #include "render/pixel_filter.h"
@@ -43,13 +45,23 @@ void check_settings(const Scene& scene, const PinholeCamera& camera, const Rende
   if (s.mode != TraceMode::Packet && s.mode != TraceMode::Single) fail("unknown trace mode");
   if (scene.material_id.size() != scene.triangle_count() || scene.materials.empty())
     fail("scene " + scene.source + " has no material for some triangles");
-  if (s.environment && s.integrator != IntegratorKind::Path && s.integrator != IntegratorKind::Sppm)
-    fail("an environment lights only the path and sppm integrators, not " + std::string(integrator_name(s.integrator)));
-  if (s.photons < 0 || s.photons > kMaxPhotonsPerIteration)
-    fail("photons per iteration must be between 1 and " + std::to_string(kMaxPhotonsPerIteration) + " (0: default)");
+  const bool sppm = s.integrator == IntegratorKind::Sppm, photon = s.integrator == IntegratorKind::Photon;
+  if (s.environment && s.integrator != IntegratorKind::Path && !sppm && !photon)
+    fail("an environment lights only the path, sppm and photon integrators, not " +
+         std::string(integrator_name(s.integrator)));
+  const std::int64_t most_photons = photon ? kMaxCausticPhotons : kMaxPhotonsPerIteration;
+  if (s.photons < 0 || s.photons > most_photons)
+    fail(std::string(photon ? "caustic photons" : "photons per iteration") + " must be between 1 and " +
+         std::to_string(most_photons) + " (0: default)");
   if (!(s.sppm_radius >= 0.0f) || !std::isfinite(s.sppm_radius)) fail("the sppm radius must be finite and >= 0");
-  if (s.integrator != IntegratorKind::Sppm && (s.photons != 0 || s.sppm_radius != 0.0f))
-    fail("photons and the sppm radius are for the sppm integrator only");
+  if (s.caustic_k < 0 || s.caustic_k == 1 || s.caustic_k > kMaxCausticK)
+    fail("caustic neighbours must be between 2 and " + std::to_string(kMaxCausticK) + " (0: default)");
+  if (!(s.caustic_radius >= 0.0f) || !std::isfinite(s.caustic_radius))
+    fail("the caustic radius must be finite and >= 0");
+  if (!sppm && !photon && s.photons != 0) fail("photons are for the sppm and photon integrators only");
+  if (!sppm && s.sppm_radius != 0.0f) fail("the sppm radius is for the sppm integrator only");
+  if (!photon && (s.caustic_k != 0 || s.caustic_radius != 0.0f))
+    fail("caustic neighbours and radius are for the photon integrator only");
 }
 
 }  // namespace
@@ -75,13 +87,32 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
   std::atomic<Clock::rep> total_primary_ticks{0};  // summed over threads
   std::atomic<bool> halted{false};
 
+  TileRunner runner(settings.threads);
   // Only the chosen integrator is built (the lights only for those that sample them).
-  const bool lit = settings.integrator == IntegratorKind::Path || settings.integrator == IntegratorKind::Whitted;
+  const bool photon = settings.integrator == IntegratorKind::Photon;
+  const bool traces_paths = settings.integrator == IntegratorKind::Path || photon;
+  const bool lit = traces_paths || settings.integrator == IntegratorKind::Whitted;
   const std::optional<AreaLights> area_lights = lit ? std::optional<AreaLights>(std::in_place, scene) : std::nullopt;
+  // --integrator photon: the caustic photon map, shot once before the passes.
+  std::optional<LightEmission> emission;
+  std::optional<CausticMap> caustics;
+  if (photon) {
+    emission.emplace(scene, *area_lights, settings.environment);
+    CausticMap::Settings cs;
+    cs.photons = settings.photons > 0 ? settings.photons : default_caustic_photons(settings.width, settings.height);
+    cs.k = settings.caustic_k > 0 ? settings.caustic_k : kDefaultCausticK;
+    cs.max_radius = settings.caustic_radius > 0.0f ? settings.caustic_radius
+                                                   : kCausticRadiusOfScene * emission->scene_radius();
+    cs.max_depth = settings.max_depth;
+    cs.seed = settings.seed;
+    caustics.emplace(scene, accel, *emission, cs, runner);
+    total_rays += caustics->rays();
+  }
   std::optional<PathIntegrator> path;
   std::optional<WhittedIntegrator> whitted;
-  if (settings.integrator == IntegratorKind::Path)
-    path.emplace(scene, accel, *area_lights, settings.environment, settings.max_depth, settings.light_samples);
+  if (traces_paths)
+    path.emplace(scene, accel, *area_lights, settings.environment, settings.max_depth, settings.light_samples,
+                 caustics ? &*caustics : nullptr);
   if (settings.integrator == IntegratorKind::Whitted)
     whitted.emplace(scene, accel, *area_lights, settings.max_depth, settings.light_samples);
   const PixelFilter filter =
@@ -95,7 +126,7 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
   const bool see_through = scene_has_coverage(scene);
   auto shade_block = [&](PrimaryBlock& primary, glm::vec3* L, std::uint64_t& rays) {
     const int n = primary.size();
-    if (settings.integrator == IntegratorKind::Path) {
+    if (traces_paths) {
       path->radiance_block(primary.rays(), primary.hits(), primary.samplers(), n, L, rays, path_scratch.local());
       return;
     }
@@ -167,7 +198,6 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
   };
 
   const std::vector<Tile> tiles = make_tiles(settings.width, settings.height, settings.tile_size);
-  TileRunner runner(settings.threads);
   auto last_checkpoint = start;
   for (s = 0; s < settings.spp && !must_stop(); ++s) {
     runner.run(tiles, render_tile, progress, tiles.size() * static_cast<std::size_t>(settings.spp));

@@ -31,6 +31,8 @@ using ProgressCallback = std::function<void(std::size_t tiles_done, std::size_t 
 // kWavefrontBlocks blocks of a tile together (PathIntegrator::radiance_block); the other
 // integrators shade pixel by pixel. IntegratorKind::Sppm runs render_sppm
 // (render/sppm_render.h): settings.spp iterations of progressive photon mapping.
+// IntegratorKind::Photon first builds a caustic photon map (render/caustic_map.h) and then
+// runs the path tracer with it.
 ImageRGB render_image(const Scene& scene, const Accelerator& accel, const PinholeCamera& camera,
                       const RenderSettings& settings, RenderStats& stats, const ProgressCallback& progress = {},
                       const RenderControl& control = {});

@@ -22,7 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const char* const kIntegrators[] = {"path", "sppm", "whitted", "normals", "albedo", "depth", "ao", "primid"};
+const char* const kIntegrators[] = {"path", "sppm", "photon", "whitted", "normals", "albedo", "depth", "ao", "primid"};
 
 class RenderOptions : public ::testing::Test {
  protected:
@@ -69,7 +69,7 @@ TEST_F(RenderOptions, EveryOptionChangesTheImageOrIsRefused) {
       {"--spp", "3"},          {"--seed", "5"},         {"--max-depth", "1"},       {"--light-samples", "2"},
       {"--filter", "gaussian"}, {"--aperture", "0.03", "--focus-distance", "0.6"}, {"--fov", "30"},
       {"--eye", "0.3,0.3,-0.7", "--look-at", "0.278,0.273,0.28"}, {"--env-color", "1,1,1"}, {"--env-color", "1,1,1", "--env-scale", "3"},
-      {"--photons", "100"},    {"--sppm-radius", "0.05"}};
+      {"--photons", "100"},    {"--sppm-radius", "0.05"}, {"--caustic-k", "5"},     {"--caustic-radius", "0.01"}};
   for (const char* integrator : kIntegrators) {
     const Run base = render(integrator, {});
     ASSERT_EQ(base.code, 0) << integrator << ": " << base.err;
@@ -91,18 +91,29 @@ TEST_F(RenderOptions, EveryOptionChangesTheImageOrIsRefused) {
 }
 
 // What each integrator refuses, spelled out: the debug views and ao read neither the
-// depth nor the light samples, only the path tracer and the photon mapper are lit by an
-// environment, and only the photon mapper reads the photon options.
+// depth nor the light samples, only the path tracer and the photon mappers are lit by an
+// environment, only the photon mappers read --photons, and each its own other options.
 TEST_F(RenderOptions, RefusalsAreThoseOfTheIntegratorsThatIgnoreTheOption) {
   for (const char* integrator : kIntegrators) {
     const std::string name = integrator;
-    const bool lit = name == "path" || name == "whitted" || name == "sppm";
+    const bool paths = name == "path" || name == "sppm" || name == "photon";
+    const bool lit = paths || name == "whitted";
     EXPECT_EQ(render(integrator, {"--max-depth", "3"}).code == 0, lit) << name;
     EXPECT_EQ(render(integrator, {"--light-samples", "3"}).code == 0, lit) << name;
-    EXPECT_EQ(render(integrator, {"--env-color", "1,1,1"}).code == 0, name == "path" || name == "sppm") << name;
-    EXPECT_EQ(render(integrator, {"--photons", "50"}).code == 0, name == "sppm") << name;
+    EXPECT_EQ(render(integrator, {"--env-color", "1,1,1"}).code == 0, paths) << name;
+    EXPECT_EQ(render(integrator, {"--photons", "50"}).code == 0, name == "sppm" || name == "photon") << name;
     EXPECT_EQ(render(integrator, {"--sppm-radius", "0.1"}).code == 0, name == "sppm") << name;
+    EXPECT_EQ(render(integrator, {"--caustic-k", "10"}).code == 0, name == "photon") << name;
+    EXPECT_EQ(render(integrator, {"--caustic-radius", "0.1"}).code == 0, name == "photon") << name;
   }
+}
+
+// --photons for the photon integrator counts caustic photons in all: at most 2^24.
+TEST_F(RenderOptions, CausticPhotonsAreBounded) {
+  const Run r = render("photon", {"--photons", std::to_string((1 << 24) + 1)});
+  EXPECT_EQ(r.code, 2);  // a command-line error
+  EXPECT_NE(r.err.find("--photons"), std::string::npos) << r.err;
+  EXPECT_EQ(render("photon", {"--caustic-k", "1"}).code, 2);
 }
 
 TEST_F(RenderOptions, HowRaysAreTracedNeverChangesTheImage) {

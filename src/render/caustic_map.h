@@ -4,10 +4,8 @@
 // tracer adds it at every non-delta vertex and leaves out what it would otherwise find by
 // chance (path.h): `--integrator photon`.
 //
-// Photons leave the lights by power (light_emission.h), follow delta bounces only (the
-// BSDFs are in importance form, so only the shading normal needs Veach's adjoint
-// correction, 1997 sec. 5.3, as SppmIntegrator::trace_photon applies it), pass through
-// coverage and are absorbed in volumes as the path tracer's rays are, and are stored where
+// Photons leave the lights and scatter as render/photon_walk.h describes (the walk SPPM's
+// photons take too), follow delta bounces only, and are stored where
 // they first meet a surface whose BSDF is not delta-only, if they have bounced at least once
 // (direct light is next-event estimation's). At a surface with both kinds of lobe (a smooth
 // coat over a diffuse base) the photon is stored and goes on only if its sample picks a
@@ -119,7 +117,6 @@ class CausticMap {
   const Accelerator& accel_;
   const LightEmission& emission_;
   Settings settings_;
-  bool has_coverage_;
   int k_;
   float max_radius_;
   float inv_photons_;

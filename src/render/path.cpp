@@ -43,16 +43,6 @@ float max_component(const glm::vec3& v) { return std::max(v.x, std::max(v.y, v.z
 bool is_black(const glm::vec3& v) { return v.x <= 0.0f && v.y <= 0.0f && v.z <= 0.0f; }
 bool is_finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
-// Beer-Lambert absorption coefficient of a KHR_materials_volume material, or nothing. A thin
-// wall encloses no volume, whatever its attenuation says.
-bool volume_absorption(const ShadingInputs& si, glm::vec3& sigma_a) {
-  if (si.thin_walled || !(si.attenuation_distance > 0.0f) || !std::isfinite(si.attenuation_distance))
-    return false;
-  const glm::vec3 c = glm::max(si.attenuation_color, glm::vec3(1e-6f));
-  sigma_a = -glm::log(c) / si.attenuation_distance;
-  return true;
-}
-
 }  // namespace
 
 PathIntegrator::PathIntegrator(const Scene& scene, const Accelerator& accel, const AreaLights& area_lights,

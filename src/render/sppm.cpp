@@ -9,6 +9,7 @@
 #include "render/bsdf.h"
 #include "render/coverage.h"
 #include "render/light_sampling.h"
+#include "render/photon_walk.h"
 #include "render/shading_inputs.h"
 #include "render/shadow_ray.h"
 #include "render/surface_bsdf.h"
@@ -33,15 +34,6 @@ constexpr std::uint32_t kRouletteDimension = 8;
 constexpr std::uint32_t kBounceDimensions = 9;
 constexpr std::uint32_t kLightDimensions = 3;
 
-// A photon: where it leaves the light, then per surface met the same three uses.
-constexpr std::uint32_t kEmitPickDimension = 0;
-constexpr std::uint32_t kEmitPositionDimensions = 1;   // and 2
-constexpr std::uint32_t kEmitDirectionDimensions = 3;  // and 4
-constexpr std::uint32_t kEmitDimensions = 5;
-constexpr std::uint32_t kPhotonSplitDimension = 0;
-constexpr std::uint32_t kPhotonBsdfDimensions = 1;  // and 2
-constexpr std::uint32_t kPhotonRouletteDimension = 3;
-constexpr std::uint32_t kPhotonBounceDimensions = 4;
 // Photon streams are told apart from pixel streams by a y no image has.
 constexpr std::uint32_t kPhotonStreamY = 0xFFFFFFFFu;
 
@@ -55,15 +47,6 @@ float power_heuristic(float a, float b) {
 float max_component(const glm::vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
 bool is_black(const glm::vec3& v) { return v.x <= 0.0f && v.y <= 0.0f && v.z <= 0.0f; }
 bool is_finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
-// As path.cpp: Beer-Lambert inside a KHR_materials_volume boundary, never in a thin wall.
-bool volume_absorption(const ShadingInputs& si, glm::vec3& sigma_a) {
-  if (si.thin_walled || !(si.attenuation_distance > 0.0f) || !std::isfinite(si.attenuation_distance))
-    return false;
-  const glm::vec3 c = glm::max(si.attenuation_color, glm::vec3(1e-6f));
-  sigma_a = -glm::log(c) / si.attenuation_distance;
-  return true;
-}
 
 Ray spawn(const Scene& scene, const ShadingInputs& si, const glm::vec3& dir) {
   Ray r;
@@ -238,93 +221,13 @@ SppmIntegrator::CameraPath SppmIntegrator::camera_path(const Ray& camera_ray, co
 void SppmIntegrator::trace_photon(std::uint64_t index, std::uint64_t seed, std::vector<Photon>& out,
                                   std::uint64_t& rays) const {
   if (emission_.empty()) return;  // no light: every photon shot carries nothing
-  SobolSampler sampler(static_cast<std::uint32_t>(index >> 32), kPhotonStreamY, static_cast<std::uint32_t>(index),
-                       seed);
-  const EmittedPhoton emitted =
-      emission_.sample(sampler.get1(kEmitPickDimension), sampler.get2(kEmitPositionDimensions),
-                       sampler.get2(kEmitDirectionDimensions));
-  sampler.skip(kEmitDimensions);
-  if (!emitted.valid) return;
-  const float start_power = max_component(emitted.power);
-  if (!(start_power > 0.0f) || !std::isfinite(start_power)) return;
-  glm::vec3 beta = emitted.power;
-  Ray ray = emitted.ray;
-  int bounces = 0, crossings = 0;
-  float from_light = 0.0f;  // distance travelled before the first scattering (the range window)
-  bool in_volume = false;
-  glm::vec3 sigma_a(0.0f);
-  for (;;) {
-    ++rays;
-    const Hit hit = accel_.intersect(ray);
-    if (!hit.valid()) return;
-    const float dir_length = glm::length(ray.dir);
-    const glm::vec3 dir = ray.dir / dir_length;
-    const float segment = hit.t * dir_length;
-    if (in_volume) beta *= glm::exp(-sigma_a * segment);
-    const ShadingInputs si = evaluate_shading(scene_, ray, hit);
-    const std::uint32_t dims = sampler.dimension();
-    sampler.skip(kPhotonBounceDimensions);
-    float u_roulette = -1.0f;
-    if (si.alpha < 1.0f && crossings < kMaxCrossings) {
-      bool through = !(si.alpha > 0.0f);
-      if (!through) {
-        const float u = sampler.get1(dims + kPhotonRouletteDimension);
-        through = u >= si.alpha;
-        u_roulette = std::min(u / si.alpha, 0x1.fffffep-1f);
-      }
-      if (through) {
-        if (bounces == 0) from_light += segment;
-        ++crossings;
-        ray = continue_past(scene_, ray, hit);
-        continue;
-      }
-    }
-    if (bounces == 0 && emitted.range > 0.0f) {
-      beta *= range_window(from_light + segment, emitted.range);
-      if (is_black(beta)) return;
-    }
-    if (si.unlit) return;  // shows its colour, scatters nothing
-    const glm::vec3 wo = -dir;  // back towards the light
-    const SurfaceScattering sc(si, wo);
+  walk_photon(scene_, accel_, emission_, index, kPhotonStreamY, seed, 1.0f, rays, [&](const PhotonVertex& v) {
     // Light that has bounced at least once: direct light is next-event estimation's.
-    if (bounces > 0 && sc.bsdf.has_diffuse()) out.push_back({si.p, wo, beta, static_cast<std::uint32_t>(bounces)});
+    if (v.bounces > 0 && v.sc.bsdf.has_diffuse())
+      out.push_back({v.si.p, v.wo, v.power, static_cast<std::uint32_t>(v.bounces)});
     // A photon is useful only to a visible point at least one scattering event before it.
-    if (bounces + 1 >= max_depth_) return;
-    const float u_split = sc.bsdf.reads_split() ? sampler.get1(dims + kPhotonSplitDimension) : 0.0f;
-    const std::optional<BsdfSample> bs = sc.sample(u_split, sampler.get2(dims + kPhotonBsdfDimensions));
-    if (!bs) return;
-    // Photons carry flux, so they scatter by the adjoint of the kernel the camera side gathers
-    // with (Veach 1997, sec. 3.7.5 and 5.3): K(wo, wi) = the folded f |wi.ns| with the photon's
-    // way back as wi, and the flux through the true surface needs |b.ng| / |a.ng|, a = wo here
-    // (towards where the photon came from), b its new direction. K is evaluated rather than
-    // assumed symmetric: the folding mirrors only wi, and a rough refraction's BTDF differs
-    // from its transpose by eta^2 (bsdf_base.h, "importance form"). Delta lobes are symmetric.
-    const glm::vec3& b = bs->wi;
-    const float a_ng = std::abs(glm::dot(wo, si.ng));
-    if (!(a_ng > 0.0f)) return;
-    if (bs->delta) {
-      const float b_ns = std::abs(glm::dot(b, si.ns));
-      if (!(b_ns > 0.0f)) return;
-      beta *= bs->weight * (std::abs(glm::dot(wo, si.ns)) * std::abs(glm::dot(b, si.ng)) / (a_ng * b_ns));
-    } else {
-      const Bsdf::Outgoing back = sc.bsdf.outgoing(b);
-      const glm::vec3 k =
-          sc.leaning ? evaluate_folded<glm::vec3>(si, wo, [&](const glm::vec3& w) { return sc.bsdf.evaluate(back, w).f; })
-                     : sc.bsdf.evaluate(back, wo).f;
-      beta *= k * (std::abs(glm::dot(b, si.ng)) / (a_ng * bs->pdf));
-    }
-    if (is_black(beta) || !is_finite(beta)) return;
-    if (bs->transmitted && !si.thin_walled) in_volume = si.front_face && volume_absorption(si, sigma_a);
-    crossings = 0;
-    if (++bounces >= kRouletteDepth) {
-      // Relative to the power it left the light with: the same rule as a camera path's.
-      const float survive =
-          std::max(kMinSurvival, std::min(1.0f, std::sqrt(max_component(beta) / start_power)));
-      if ((u_roulette >= 0.0f ? u_roulette : sampler.get1(dims + kPhotonRouletteDimension)) >= survive) return;
-      beta /= survive;
-    }
-    ray = spawn(scene_, si, bs->wi);
-  }
+    return v.bounces + 1 >= max_depth_ ? PhotonGoes::Stop : PhotonGoes::AnyLobe;
+  });
 }
 
 SppmIntegrator::Gathered SppmIntegrator::gather(const VisiblePoint& vp, const PhotonGrid& grid, float radius) const {

@@ -12,11 +12,9 @@
 //     non-delta lobes are not sampled). Where the visible point's BSDF also has a delta lobe
 //     (a smooth coat, a smooth specular layer) the path goes on through it with that lobe's
 //     probability, and otherwise stops with its throughput divided by the rest.
-//  2. Photon pass: photons leave the lights (light_emission.h, by power) and scatter through
-//     the same BSDFs (the BSDFs are in importance form, bsdf_base.h, so only the shading
-//     normal needs Veach's adjoint correction, 1997 sec. 5.3); from their second surface on
-//     they are left on every surface with a diffuse lobe. Russian roulette as in the path
-//     tracer.
+//  2. Photon pass: photons leave the lights by power and scatter through the same BSDFs, by
+//     their adjoint (render/photon_walk.h, shared with the caustic photon map); from their
+//     second surface on they are left on every surface with a diffuse lobe.
 //  3. Gather: each visible point sums power * f(wo, wi) |wi.ns| / |wi.ng| over the photons
 //     within its radius (photon_grid.h), then updates its statistics (Hachisuka & Jensen
 //     2009, eq. 7-8 with alpha = 2/3): N' = N + alpha M, r' = r sqrt(N' / (N + M)),

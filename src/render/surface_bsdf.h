@@ -2,8 +2,11 @@
 // it (the path tracer, the photon mapper's camera and photon paths).
 #pragma once
 
+#include <cmath>
 #include <optional>
 
+#include <glm/common.hpp>
+#include <glm/exponential.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
@@ -23,6 +26,16 @@ inline Bsdf surface_bsdf(const ShadingInputs& si) {
   inputs.sheen_color = si.sheen_color;
   inputs.sheen_roughness = si.sheen_roughness;
   return Bsdf(inputs, ShadingFrame::from_orthonormal(si.ns, si.tangent), si.front_face);
+}
+
+// Beer-Lambert absorption inside a KHR_materials_volume boundary: sigma_a =
+// -ln(attenuationColor) / attenuationDistance, or nothing (false). A thin wall encloses no
+// volume, whatever its attenuation says.
+inline bool volume_absorption(const ShadingInputs& si, glm::vec3& sigma_a) {
+  if (si.thin_walled || !(si.attenuation_distance > 0.0f) || !std::isfinite(si.attenuation_distance)) return false;
+  const glm::vec3 c = glm::max(si.attenuation_color, glm::vec3(1e-6f));
+  sigma_a = -glm::log(c) / si.attenuation_distance;
+  return true;
 }
 
 // The BSDF at a shading point seen from wo, folded where the shading and geometric normals

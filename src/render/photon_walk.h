@@ -1,0 +1,163 @@
+// One photon's way from a light through the scene: the walk both photon mappers share
+// (SPPM, render/sppm.h, and the caustic photon map, render/caustic_map.h). They differ only
+// in where a photon is kept and whether it may scatter by a non-delta lobe; that is the
+// caller's visit().
+//
+// The photon leaves a light by power (light_emission.h), passes through coverage as the
+// path tracer's rays do (render/coverage.h), is attenuated inside volumes (Beer-Lambert),
+// takes a punctual light's range window at its first surface, scatters by the adjoint of
+// the kernel the camera side gathers with (Veach 1997, sec. 3.7.5 and 5.3; see walk_photon),
+// and meets Russian roulette from the fourth bounce on with the path tracer's rule, relative
+// to the power it left with.
+//
+// Its random numbers are sample `index` of the sampler stream (index >> 32, stream_y): each
+// photon is a pure function of (index, stream, seed), whatever the thread that traces it.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <optional>
+
+#include <glm/geometric.hpp>
+#include <glm/vec3.hpp>
+
+#include "accel/accelerator.h"
+#include "accel/ray_offset.h"
+#include "render/coverage.h"
+#include "render/light_emission.h"
+#include "render/lights.h"
+#include "render/shading_inputs.h"
+#include "render/sobol_sampler.h"
+#include "render/surface_bsdf.h"
+
+namespace lancer {
+
+// A surface a photon met and scatters at (not one it passed through).
+struct PhotonVertex {
+  const ShadingInputs& si;
+  const SurfaceScattering& sc;  // seen from wo
+  glm::vec3 wo;                 // unit, back towards where the photon came from
+  glm::vec3 power;              // the flux it carries on arrival
+  int bounces;                  // scattering events before this surface
+};
+
+// What visit() lets the photon do next.
+enum class PhotonGoes { Stop, AnyLobe, DeltaOnly };
+
+namespace photon_walk {
+// Where a photon's values lie among its dimensions: where it leaves the light, then per
+// surface met the same four uses.
+constexpr std::uint32_t kEmitPickDimension = 0;
+constexpr std::uint32_t kEmitPositionDimensions = 1;   // and 2
+constexpr std::uint32_t kEmitDirectionDimensions = 3;  // and 4
+constexpr std::uint32_t kEmitDimensions = 5;
+constexpr std::uint32_t kSplitDimension = 0;
+constexpr std::uint32_t kBsdfDimensions = 1;  // and 2
+constexpr std::uint32_t kRouletteDimension = 3;  // also the coverage choice, rescaled
+constexpr std::uint32_t kBounceDimensions = 4;
+// As the path tracer (path.cpp).
+constexpr int kRouletteDepth = 3;
+constexpr float kMinSurvival = 0.05f;
+
+inline float max_component(const glm::vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
+inline bool is_black(const glm::vec3& v) { return v.x <= 0.0f && v.y <= 0.0f && v.z <= 0.0f; }
+inline bool is_finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+}  // namespace photon_walk
+
+// Walks photon `index` of stream (stream_y, seed), its power multiplied by power_scale.
+// visit(const PhotonVertex&) -> PhotonGoes is called at every surface the photon scatters
+// at (unlit surfaces absorb it first); `rays` counts the rays traced. `emission` must not
+// be empty.
+template <class Visit>
+void walk_photon(const Scene& scene, const Accelerator& accel, const LightEmission& emission, std::uint64_t index,
+                 std::uint32_t stream_y, std::uint64_t seed, float power_scale, std::uint64_t& rays, Visit&& visit) {
+  using namespace photon_walk;
+  SobolSampler sampler(static_cast<std::uint32_t>(index >> 32), stream_y, static_cast<std::uint32_t>(index), seed);
+  const EmittedPhoton emitted = emission.sample(sampler.get1(kEmitPickDimension), sampler.get2(kEmitPositionDimensions),
+                                                sampler.get2(kEmitDirectionDimensions));
+  sampler.skip(kEmitDimensions);
+  if (!emitted.valid) return;
+  glm::vec3 beta = emitted.power * power_scale;
+  const float start_power = max_component(beta);
+  if (!(start_power > 0.0f) || !std::isfinite(start_power)) return;
+  Ray ray = emitted.ray;
+  int bounces = 0, crossings = 0;
+  float from_light = 0.0f;  // distance travelled before the first scattering (the range window)
+  bool in_volume = false;
+  glm::vec3 sigma_a(0.0f);
+  for (;;) {
+    ++rays;
+    const Hit hit = accel.intersect(ray);
+    if (!hit.valid()) return;
+    const float dir_length = glm::length(ray.dir);
+    const glm::vec3 dir = ray.dir / dir_length;
+    const float segment = hit.t * dir_length;
+    if (in_volume) beta *= glm::exp(-sigma_a * segment);
+    const ShadingInputs si = evaluate_shading(scene, ray, hit);
+    const std::uint32_t dims = sampler.dimension();
+    sampler.skip(kBounceDimensions);
+    float u_roulette = -1.0f;
+    if (si.alpha < 1.0f && crossings < kMaxCrossings) {  // coverage: as the path tracer
+      bool through = !(si.alpha > 0.0f);
+      if (!through) {
+        const float u = sampler.get1(dims + kRouletteDimension);
+        through = u >= si.alpha;
+        u_roulette = std::min(u / si.alpha, 0x1.fffffep-1f);
+      }
+      if (through) {
+        if (bounces == 0) from_light += segment;
+        ++crossings;
+        ray = continue_past(scene, ray, hit);
+        continue;
+      }
+    }
+    if (bounces == 0 && emitted.range > 0.0f) {
+      beta *= range_window(from_light + segment, emitted.range);
+      if (is_black(beta)) return;
+    }
+    if (si.unlit) return;  // shows its colour, scatters nothing
+    const glm::vec3 wo = -dir;
+    const SurfaceScattering sc(si, wo);
+    const PhotonGoes goes = visit(PhotonVertex{si, sc, wo, beta, bounces});
+    if (goes == PhotonGoes::Stop) return;
+    const float u_split = sc.bsdf.reads_split() ? sampler.get1(dims + kSplitDimension) : 0.0f;
+    const std::optional<BsdfSample> bs = sc.sample(u_split, sampler.get2(dims + kBsdfDimensions));
+    if (!bs || (goes == PhotonGoes::DeltaOnly && !bs->delta)) return;
+    // Photons carry flux, so they scatter by the adjoint of the kernel the camera side gathers
+    // with: K(wo, wi) = the folded f |wi.ns| with the photon's way back as wi, and the flux
+    // through the true surface needs |b.ng| / |a.ng|, a = wo here, b the new direction. K is
+    // evaluated rather than assumed symmetric: the folding mirrors only wi, and a rough
+    // refraction's BTDF differs from its transpose by eta^2 (bsdf_base.h, "importance form").
+    // Delta lobes are symmetric: their weight with the shading-normal correction (Veach's
+    // eq. 5.17) is exact.
+    const glm::vec3& b = bs->wi;
+    const float a_ng = std::abs(glm::dot(wo, si.ng));
+    if (!(a_ng > 0.0f)) return;
+    if (bs->delta) {
+      const float b_ns = std::abs(glm::dot(b, si.ns));
+      if (!(b_ns > 0.0f)) return;
+      beta *= bs->weight * (std::abs(glm::dot(wo, si.ns)) * std::abs(glm::dot(b, si.ng)) / (a_ng * b_ns));
+    } else {
+      const Bsdf::Outgoing back = sc.bsdf.outgoing(b);
+      const glm::vec3 k =
+          sc.leaning ? evaluate_folded<glm::vec3>(si, wo, [&](const glm::vec3& w) { return sc.bsdf.evaluate(back, w).f; })
+                     : sc.bsdf.evaluate(back, wo).f;
+      beta *= k * (std::abs(glm::dot(b, si.ng)) / (a_ng * bs->pdf));
+    }
+    if (is_black(beta) || !is_finite(beta)) return;
+    if (bs->transmitted && !si.thin_walled) in_volume = si.front_face && volume_absorption(si, sigma_a);
+    crossings = 0;
+    if (++bounces >= kRouletteDepth) {
+      const float survive = std::max(kMinSurvival, std::min(1.0f, std::sqrt(max_component(beta) / start_power)));
+      if ((u_roulette >= 0.0f ? u_roulette : sampler.get1(dims + kRouletteDimension)) >= survive) return;
+      beta /= survive;
+    }
+    ray.org = SurfaceOffset(si.p, si.ng, triangle_corners(scene.triangles, si.prim)).origin(b);
+    ray.dir = b;
+    ray.tnear = 0.0f;
+    ray.tfar = kInfinity;
+  }
+}
+
+}  // namespace lancer

@@ -196,6 +196,11 @@ int run_caustic_bench(const CausticBenchOptions& o, const fs::path& scenes_dir, 
     err << "lancer bench --caustics: the region is empty at this size\n";
     return 2;
   }
+  for (const std::string& name : o.integrators)
+    if (!parse_integrator(name)) {
+      err << "lancer bench --caustics: unknown integrator " << name << "\n";
+      return 2;
+    }
   const Region whole{0, 0, o.size, o.size};
   const Scene scene = load_scene(file);
   const std::unique_ptr<Accelerator> accel = make_accelerator("kdtree", scene.triangles);
@@ -255,10 +260,11 @@ int run_caustic_bench(const CausticBenchOptions& o, const fs::path& scenes_dir, 
         << sci(end.mse_whole) << " | " << sci(end.mse_region) << " | " << fixed(r.slope_whole, 2) << " | "
         << fixed(r.slope_region, 2) << " |\n";
   }
-  if (runs.size() == 2 && runs[0].curve.back().mse_whole > 0.0 && runs[0].curve.back().mse_region > 0.0)
-    out << "\n" << runs[1].integrator << " / " << runs[0].integrator << " at equal time: MSE whole image "
-        << fixed(runs[1].curve.back().mse_whole / runs[0].curve.back().mse_whole, 3) << "x, region "
-        << fixed(runs[1].curve.back().mse_region / runs[0].curve.back().mse_region, 3) << "x\n";
+  for (std::size_t i = 1; i < runs.size(); ++i)
+    if (runs[0].curve.back().mse_whole > 0.0 && runs[0].curve.back().mse_region > 0.0)
+      out << (i == 1 ? "\n" : "") << runs[i].integrator << " / " << runs[0].integrator
+          << " at equal time: MSE whole image " << fixed(runs[i].curve.back().mse_whole / runs[0].curve.back().mse_whole, 3)
+          << "x, region " << fixed(runs[i].curve.back().mse_region / runs[0].curve.back().mse_region, 3) << "x\n";
   out << "\nError against time (log-spaced checkpoints):\n\n| integrator | seconds | passes | MSE whole | MSE region |\n"
       << "|---|--:|--:|--:|--:|\n";
   for (const Run& r : runs)

@@ -21,7 +21,7 @@ std::optional<CausticBenchOptions> parse_caustic_bench_options(int argc, const c
   app.add_option("--threads", o.threads, "Render threads (0: all cores)")->check(CLI::Range(0, 4096))->capture_default_str();
   app.add_option("--reference-spp", o.reference_spp, "Samples per pixel of each half of the reference")
       ->check(CLI::Range(1, 1 << 20))->capture_default_str();
-  app.add_option("--integrators", o.integrators, "Integrators compared (the ratio is the second over the first)")
+  app.add_option("--integrators", o.integrators, "Integrators compared (each later one's error over the first's)")
       ->delimiter(',')->capture_default_str();
   app.add_option("--region", o.region, "x0,y0,x1,y1 in pixels of a 256-pixel image, scaled to --size")
       ->delimiter(',')->expected(4)->capture_default_str();

@@ -82,6 +82,11 @@ void add_render_command(CLI::App& app, RenderOptions& opt) {
   render->add_option("--checkpoint", opt.checkpoint_s,
                      "Also write the outputs every this many seconds while rendering (after a full pass)")
       ->check(CLI::Range(0.001, 1e7))->type_name("SECONDS");
+  render->add_option("--resume", opt.resume,
+                     "Continue the render saved in this EXR output (a checkpoint, or the image an interrupted or "
+                     "shorter render wrote) with the same scene and settings; --spp may be raised. The image ends "
+                     "bit-identical to an uninterrupted render's (not for sppm)")
+      ->type_name("FILE.exr");
   s.integrator = IntegratorKind::Path;
   render->add_option_function<std::string>(
             "--integrator", [&s](const std::string& name) { s.integrator = *parse_integrator(name); },

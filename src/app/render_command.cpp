@@ -16,7 +16,9 @@
 #include "app/camera_choice.h"
 #include "app/interrupt.h"
 #include "app/progress_reporter.h"
+#include "app/resume.h"
 #include "render/camera.h"
+#include "render/checkpoint_file.h"
 #include "render/environment.h"
 #include "render/image_io.h"
 #include "render/renderer.h"
@@ -101,6 +103,15 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
         throw std::invalid_argument("output " + o + ": unknown image type '" + ext + "' (expected .exr or .png)");
     }
 
+    // Read first, so a wrong file is refused before the scene loads.
+    std::optional<Checkpoint> resumed;
+    if (!opt.resume.empty()) {
+      if (opt.settings.integrator == IntegratorKind::Sppm)
+        throw std::invalid_argument("--resume: the sppm integrator cannot resume a render (its photon statistics are "
+                                    "not saved); render it again, with --time or a larger --spp");
+      resumed = read_checkpoint(opt.resume);
+    }
+
     const auto t_load = std::chrono::steady_clock::now();
     const Scene scene = load_scene(opt.scene, opt.gltf_scene);
     print_load_warnings(scene, err);
@@ -142,12 +153,26 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
 
     // --time without --spp: as many passes as the time allows.
     if (opt.time_limit_s > 0.0 && !opt.spp_given) s.spp = kMaxSpp;
+    // Every EXR output but sppm's carries the exact render state, so it can be resumed.
+    RenderState state;
+    const bool keeps_state = s.integrator != IntegratorKind::Sppm;
+    CheckpointFacts facts;
+    if (resumed) {
+      state = take_resumed_state(std::move(*resumed), opt, s, scene, camera, kMaxSpp, facts);
+    } else if (keeps_state) {
+      facts = render_facts(opt, s, scene, camera);
+    }
     for (const auto& o : opt.outputs) {
       const std::filesystem::path parent = std::filesystem::path(o).parent_path();
       if (!parent.empty()) std::filesystem::create_directories(parent);
     }
     auto write_outputs = [&](const ImageRGB& image) {
-      for (const auto& o : opt.outputs) write_image(image, o, opt.display);
+      for (const auto& o : opt.outputs) {
+        std::string ext = std::filesystem::path(o).extension().string();
+        for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+        if (keeps_state && ext == ".exr") write_checkpoint(state, facts, o);
+        else write_image(image, o, opt.display);
+      }
     };
 
     const InterruptGuard interrupt;
@@ -155,6 +180,7 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
     control.stop = &interrupt.flag();
     control.time_limit_s = opt.time_limit_s;
     control.checkpoint_s = opt.checkpoint_s;
+    if (keeps_state) control.state = &state;
     control.on_checkpoint = [&](const ImageRGB& image, int) { write_outputs(image); };
     ProgressReporter progress(err, opt.progress && isatty(STDERR_FILENO));
     const auto t_render = std::chrono::steady_clock::now();

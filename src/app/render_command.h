@@ -33,6 +33,7 @@ struct RenderOptions {
   bool spp_given = false;       // --spp on the command line (else --time renders until its limit)
   double time_limit_s = 0.0;    // --time: stop after this many seconds (0: none)
   double checkpoint_s = 0.0;    // --checkpoint: write the outputs this often (0: never)
+  std::string resume;           // --resume: continue the render saved in this EXR (app/resume.h)
   std::string env_file;                // --env
   std::vector<float> env_color;        // --env-color (3 values) or empty
   float env_scale = 1.0f;              // --env-scale

@@ -24,6 +24,8 @@
 #include <Imath/ImathBox.h>
 #include <OpenEXR/IexBaseExc.h>
 #include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfIntAttribute.h>
+#include <OpenEXR/ImfStringAttribute.h>
 #include <OpenEXR/ImfCompression.h>
 #include <OpenEXR/ImfFrameBuffer.h>
 #include <OpenEXR/ImfHeader.h>
@@ -181,7 +183,7 @@ class MemoryOStream : public Imf::OStream {
 
 constexpr std::array<const char*, 3> kRgbNames = {"R", "G", "B"};
 
-std::string encode_exr(const ImageRGB& image, const fs::path& file) {
+std::string encode_exr(const ImageRGB& image, const fs::path& file, const ExrExtras& extras = {}) {
   Imf::Header header(image.width, image.height);
   header.compression() = Imf::ZIP_COMPRESSION;  // lossless for 32-bit floats
   Imf::FrameBuffer frame;
@@ -192,6 +194,15 @@ std::string encode_exr(const ImageRGB& image, const fs::path& file) {
     frame.insert(kRgbNames[c], Imf::Slice::Make(Imf::FLOAT, image.rgb.data() + c, header.dataWindow(),
                                                 x_stride, y_stride));
   }
+  for (const auto& [name, values] : extras.uint_channels) {
+    if (values.size() != image.rgb.size() / 3)
+      throw ImageError(file, "channel " + name + " holds " + std::to_string(values.size()) + " values, expected one per pixel");
+    header.channels().insert(name, Imf::Channel(Imf::UINT));
+    frame.insert(name, Imf::Slice::Make(Imf::UINT, values.data(), header.dataWindow(), sizeof(std::uint32_t),
+                                        sizeof(std::uint32_t) * static_cast<std::size_t>(image.width)));
+  }
+  for (const auto& [name, value] : extras.strings) header.insert(name, Imf::StringAttribute(value));
+  for (const auto& [name, value] : extras.ints) header.insert(name, Imf::IntAttribute(value));
   MemoryOStream stream(file.string());
   {
     Imf::OutputFile out(stream, header);
@@ -226,7 +237,32 @@ const Imf::Channel* full_resolution_channel(const Imf::ChannelList& channels, co
   return channel;
 }
 
-ImageRGB decode_exr(const std::string& bytes, const fs::path& file) {
+// The UINT channels and string and int attributes under `prefix`, for read_exr.
+void decode_exr_extras(Imf::InputFile& in, ImageRGB& image, std::string_view prefix, ExrExtras& extras,
+                       const fs::path& file) {
+  const Imath::Box2i window = in.header().dataWindow();
+  auto wanted = [&](const char* name) { return std::string_view(name).substr(0, prefix.size()) == prefix; };
+  for (auto it = in.header().begin(); it != in.header().end(); ++it) {
+    if (!wanted(it.name())) continue;
+    if (const auto* s = dynamic_cast<const Imf::StringAttribute*>(&it.attribute())) extras.strings.emplace_back(it.name(), s->value());
+    if (const auto* i = dynamic_cast<const Imf::IntAttribute*>(&it.attribute())) extras.ints.emplace_back(it.name(), i->value());
+  }
+  Imf::FrameBuffer frame;
+  const Imf::ChannelList& channels = in.header().channels();
+  for (auto it = channels.begin(); it != channels.end(); ++it) {
+    if (!wanted(it.name()) || it.channel().type != Imf::UINT) continue;
+    full_resolution_channel(channels, it.name(), file);
+    auto& [name, values] = extras.uint_channels.emplace_back(it.name(), std::vector<std::uint32_t>(image.rgb.size() / 3));
+    frame.insert(name, Imf::Slice::Make(Imf::UINT, values.data(), window, sizeof(std::uint32_t),
+                                        sizeof(std::uint32_t) * static_cast<std::size_t>(image.width)));
+  }
+  if (extras.uint_channels.empty()) return;
+  in.setFrameBuffer(frame);
+  in.readPixels(window.min.y, window.max.y);
+}
+
+ImageRGB decode_exr(const std::string& bytes, const fs::path& file, ExrExtras* extras = nullptr,
+                    std::string_view prefix = {}) {
   const Imath::Box2i peeked = peek_exr_data_window(bytes, file);
   check_dimensions(std::int64_t{peeked.max.x} - peeked.min.x + 1, std::int64_t{peeked.max.y} - peeked.min.y + 1, file);
 
@@ -269,6 +305,7 @@ ImageRGB decode_exr(const std::string& bytes, const fs::path& file) {
   if (!rgb) {
     for (std::size_t i = 0; i < image.rgb.size(); i += 3) image.rgb[i + 1] = image.rgb[i + 2] = image.rgb[i];
   }
+  if (extras != nullptr) decode_exr_extras(in, image, prefix, *extras, file);
   return image;
 }
 
@@ -387,18 +424,19 @@ std::string encode_png(const ImageRGB& image, const fs::path& file, const Displa
   return bytes;
 }
 
-}  // namespace
-
-void write_image(const ImageRGB& image, const std::filesystem::path& file, const DisplayTransform& display) {
+void write_image_with(const ImageRGB& image, const std::filesystem::path& file, const DisplayTransform& display,
+                      const ExrExtras* extras) {
   const Format format = format_from_extension(file);
   if (format != Format::kExr && format != Format::kPng)
     throw ImageError(file, "writing " + file.extension().string() + " files is not supported (use .exr or .png)");
+  if (extras != nullptr && format != Format::kExr) throw ImageError(file, "only .exr files carry extra channels");
   check_dimensions(image.width, image.height, file);
   if (image.rgb.size() != static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height) * 3)
     throw ImageError(file, "image holds " + std::to_string(image.rgb.size()) + " floats, expected width*height*3");
   std::string bytes;
   try {
-    bytes = format == Format::kExr ? encode_exr(image, file) : encode_png(image, file, display);
+    bytes = format == Format::kExr ? encode_exr(image, file, extras != nullptr ? *extras : ExrExtras{})
+                                   : encode_png(image, file, display);
   } catch (const ImageError&) {
     throw;
   } catch (const std::bad_alloc& e) {
@@ -409,11 +447,12 @@ void write_image(const ImageRGB& image, const std::filesystem::path& file, const
   write_file_atomically(file, bytes);
 }
 
-ImageRGB read_image(const std::filesystem::path& file) {
+ImageRGB read_image_with(const std::filesystem::path& file, ExrExtras* extras, std::string_view prefix) {
   const Format format = format_from_extension(file);
+  if (extras != nullptr && format != Format::kExr) throw ImageError(file, "not an OpenEXR file (.exr)");
   const std::string bytes = read_whole_file(file);
   try {
-    return format == Format::kExr ? decode_exr(bytes, file) : decode_with_stb(bytes, file, format);
+    return format == Format::kExr ? decode_exr(bytes, file, extras, prefix) : decode_with_stb(bytes, file, format);
   } catch (const ImageError&) {
     throw;
   } catch (const std::bad_alloc& e) {
@@ -421,6 +460,23 @@ ImageRGB read_image(const std::filesystem::path& file) {
   } catch (const std::exception& e) {
     throw ImageError(file, e.what());
   }
+}
+
+}  // namespace
+
+void write_image(const ImageRGB& image, const std::filesystem::path& file, const DisplayTransform& display) {
+  write_image_with(image, file, display, nullptr);
+}
+
+void write_exr(const ImageRGB& image, const std::filesystem::path& file, const ExrExtras& extras) {
+  write_image_with(image, file, {}, &extras);
+}
+
+ImageRGB read_image(const std::filesystem::path& file) { return read_image_with(file, nullptr, {}); }
+
+ImageRGB read_exr(const std::filesystem::path& file, ExrExtras& extras, std::string_view prefix) {
+  extras = {};
+  return read_image_with(file, &extras, prefix);
 }
 
 std::size_t count_non_finite(const ImageRGB& image) {

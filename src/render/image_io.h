@@ -11,6 +11,9 @@
 #include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <string_view>
+#include <utility>
+#include <vector>
 
 #include "render/display.h"
 #include "render/image.h"
@@ -43,6 +46,23 @@ void write_image(const ImageRGB& image, const std::filesystem::path& file, const
 // HDR: linear as stored. Throws ImageError for a missing, corrupt, truncated or
 // oversized file, naming the file and the decoder's reason.
 ImageRGB read_image(const std::filesystem::path& file);
+
+// What an EXR file may carry beside its picture (the render state of `lancer render --resume`):
+// 32-bit unsigned channels of width * height values each, row-major, and string and int
+// header attributes. Other programs show the RGB picture and keep or ignore the rest.
+struct ExrExtras {
+  std::vector<std::pair<std::string, std::vector<std::uint32_t>>> uint_channels;
+  std::vector<std::pair<std::string, std::string>> strings;
+  std::vector<std::pair<std::string, int>> ints;
+};
+
+// write_image to a .exr file with `extras` added (names must not clash with R, G, B or the
+// standard attributes). Throws ImageError as write_image does, and for a channel of the wrong size.
+void write_exr(const ImageRGB& image, const std::filesystem::path& file, const ExrExtras& extras);
+
+// read_image of a .exr file that also returns, in `extras`, every full-resolution UINT channel
+// and every string and int attribute whose name starts with `prefix`.
+ImageRGB read_exr(const std::filesystem::path& file, ExrExtras& extras, std::string_view prefix);
 
 // Number of pixels with at least one NaN or infinite channel.
 std::size_t count_non_finite(const ImageRGB& image);

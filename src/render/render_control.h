@@ -7,6 +7,7 @@
 #include <functional>
 
 #include "render/image.h"
+#include "render/render_state.h"
 
 namespace lancer {
 
@@ -22,6 +23,11 @@ struct RenderControl {
   // thread, while no worker runs.
   double checkpoint_s = 0.0;
   std::function<void(const ImageRGB& image, int passes_done)> on_checkpoint;
+  // Non-null: the render continues from *state (empty: starts afresh), which must come from a
+  // render of the same scene with the same settings but perhaps a smaller spp, and leaves its
+  // sums and counts there, so they can be saved and resumed (--resume); on_checkpoint may read
+  // it. Not for IntegratorKind::Sppm, whose state is another (render_image throws).
+  RenderState* state = nullptr;
 };
 
 }  // namespace lancer

@@ -22,6 +22,7 @@
 #include "render/pixel_filter.h"
 #include "render/primary_block.h"
 #include "render/render_control.h"
+#include "render/render_state.h"
 #include "render/sampler.h"
 #include "render/sppm_render.h"
 #include "render/tile_scheduler.h"
@@ -64,13 +65,32 @@ void check_settings(const Scene& scene, const PinholeCamera& camera, const Rende
     fail("caustic neighbours and radius are for the photon integrator only");
 }
 
+// A state to continue from must be one this render could have left: same size, every pixel
+// at `passes` or one more, and no more samples than settings.spp.
+void check_state(const RenderState& st, const RenderSettings& s) {
+  auto fail = [](const std::string& what) { throw std::invalid_argument("render state: " + what); };
+  if (st.width != s.width || st.height != s.height)
+    fail("it is " + std::to_string(st.width) + "x" + std::to_string(st.height) + " but the image is " +
+         std::to_string(s.width) + "x" + std::to_string(s.height));
+  if (st.sum.size() != st.pixels() || st.count.size() != st.pixels()) fail("sums or counts are not one per pixel");
+  if (st.passes < 0 || st.passes > s.spp)
+    fail(std::to_string(st.passes) + " passes done, more than the " + std::to_string(s.spp) + " asked for");
+  const auto ahead = static_cast<std::uint32_t>(st.passes) + (st.passes < s.spp ? 1u : 0u);
+  for (std::uint32_t c : st.count)
+    if (c < static_cast<std::uint32_t>(st.passes) || c > ahead)
+      fail("a pixel has " + std::to_string(c) + " samples after " + std::to_string(st.passes) + " full passes");
+}
+
 }  // namespace
 
 ImageRGB render_image(const Scene& scene, const Accelerator& accel, const PinholeCamera& camera,
                       const RenderSettings& settings, RenderStats& stats, const ProgressCallback& progress,
                       const RenderControl& control) {
   check_settings(scene, camera, settings);
-  if (settings.integrator == IntegratorKind::Sppm) return render_sppm(scene, accel, camera, settings, stats, progress, control);
+  if (settings.integrator == IntegratorKind::Sppm) {
+    if (control.state != nullptr) throw std::invalid_argument("render settings: the sppm integrator keeps no RenderState");
+    return render_sppm(scene, accel, camera, settings, stats, progress, control);
+  }
   using Clock = std::chrono::steady_clock;
   const auto start = Clock::now();
   const bool timed = control.time_limit_s > 0.0;
@@ -79,9 +99,12 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
 
   // Per pixel: the sum of its samples in double (a long render adds up millions) and how
   // many there are, so an image stopped mid-pass still averages what each pixel got.
-  const std::size_t pixels = static_cast<std::size_t>(settings.width) * static_cast<std::size_t>(settings.height);
-  std::vector<glm::dvec3> sum(pixels, glm::dvec3(0.0));
-  std::vector<std::uint32_t> count(pixels, 0);
+  RenderState own_state;
+  RenderState& state = control.state != nullptr ? *control.state : own_state;
+  if (state.empty()) state.reset(settings.width, settings.height);
+  check_state(state, settings);
+  std::vector<glm::dvec3>& sum = state.sum;
+  std::vector<std::uint32_t>& count = state.count;
   std::atomic<std::uint64_t> total_rays{0};
   std::atomic<std::uint64_t> total_primary_rays{0};
   std::atomic<Clock::rep> total_primary_ticks{0};  // summed over threads
@@ -157,6 +180,7 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
   // tile at a time, each block's camera rays traced together (a packet or one by one), then
   // all of them shaded, each pixel with its own sampler. The stop flag is read before each
   // wavefront.
+  const int resumed_pass = state.passes;
   int s = 0;
   auto render_tile = [&](const Tile& tile) {
     std::uint64_t rays = 0;  // per tile, added to the totals once
@@ -165,20 +189,36 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
     PrimaryBlock& primary = primary_blocks.local();
     std::array<glm::vec3, kWavefrontPixels> L;
     const std::vector<PixelBlock> blocks = make_blocks(tile);
+    auto pixel = [&](const PixelBlock& block, int i) {
+      return static_cast<std::size_t>(block.y0 + i / block.width()) * settings.width +
+             static_cast<std::size_t>(block.x0 + i % block.width());
+    };
+    // A pixel takes sample s only while it has s samples: a resumed render's first pass
+    // skips the pixels a stop in the middle of that pass had already given it.
+    auto lacks_sample = [&](const PixelBlock& block) {
+      for (int i = 0; i < block.pixel_count(); ++i)
+        if (count[pixel(block, i)] == static_cast<std::uint32_t>(s)) return true;
+      return false;
+    };
+    std::array<std::size_t, kWavefrontBlocks> chosen;
     for (std::size_t first = 0; first < blocks.size(); first += kWavefrontBlocks) {
       if (must_stop()) break;
       const std::size_t last = std::min(blocks.size(), first + kWavefrontBlocks);
+      std::size_t n = 0;
+      for (std::size_t b = first; b < last; ++b)
+        if (lacks_sample(blocks[b])) chosen[n++] = b;
+      if (n == 0) continue;
       primary.clear();
-      for (std::size_t b = first; b < last; ++b) primary.add(camera, filter, blocks[b], s, settings.seed);
+      for (std::size_t k = 0; k < n; ++k) primary.add(camera, filter, blocks[chosen[k]], s, settings.seed);
       primary_time += primary.trace(accel, settings.mode);
       primary_rays += static_cast<std::uint64_t>(primary.size());
       shade_block(primary, L.data(), rays);
-      for (std::size_t b = first; b < last; ++b) {
-        const PixelBlock& block = blocks[b];
-        const glm::vec3* block_L = L.data() + primary.block_start(static_cast<int>(b - first));
+      for (std::size_t k = 0; k < n; ++k) {
+        const PixelBlock& block = blocks[chosen[k]];
+        const glm::vec3* block_L = L.data() + primary.block_start(static_cast<int>(k));
         for (int i = 0; i < block.pixel_count(); ++i) {
-          const std::size_t p = static_cast<std::size_t>(block.y0 + i / block.width()) * settings.width +
-                                static_cast<std::size_t>(block.x0 + i % block.width());
+          const std::size_t p = pixel(block, i);
+          if (count[p] != static_cast<std::uint32_t>(s)) continue;
           sum[p] += glm::dvec3(block_L[i]);
           ++count[p];
         }
@@ -188,24 +228,16 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
     total_primary_rays.fetch_add(primary_rays, std::memory_order_relaxed);
     total_primary_ticks.fetch_add(primary_time.count(), std::memory_order_relaxed);
   };
-  auto current_image = [&] {
-    ImageRGB image(settings.width, settings.height);
-    for (std::size_t p = 0; p < pixels; ++p) {
-      const glm::vec3 mean = count[p] > 0 ? glm::vec3(sum[p] / static_cast<double>(count[p])) : glm::vec3(0.0f);
-      image.rgb[3 * p] = mean.x, image.rgb[3 * p + 1] = mean.y, image.rgb[3 * p + 2] = mean.z;
-    }
-    return image;
-  };
-
   const std::vector<Tile> tiles = make_tiles(settings.width, settings.height, settings.tile_size);
   auto last_checkpoint = start;
-  for (s = 0; s < settings.spp && !must_stop(); ++s) {
-    runner.run(tiles, render_tile, progress, tiles.size() * static_cast<std::size_t>(settings.spp));
+  stats.passes = state.passes;
+  for (s = state.passes; s < settings.spp && !must_stop(); ++s) {
+    runner.run(tiles, render_tile, progress, tiles.size() * static_cast<std::size_t>(settings.spp - resumed_pass));
     if (halted.load()) break;
-    stats.passes = s + 1;
+    stats.passes = state.passes = s + 1;
     if (control.checkpoint_s > 0.0 && control.on_checkpoint && s + 1 < settings.spp &&
         std::chrono::duration<double>(Clock::now() - last_checkpoint).count() >= control.checkpoint_s) {
-      control.on_checkpoint(current_image(), s + 1);
+      control.on_checkpoint(state.mean(), s + 1);
       last_checkpoint = Clock::now();
     }
   }
@@ -222,7 +254,7 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
   for (const PathIntegrator::Scratch& scratch : path_scratch) stats.path_batches += scratch.stats;
   stats.primary_rays = total_primary_rays.load();
   stats.primary_seconds = std::chrono::duration<double>(Clock::duration(total_primary_ticks.load())).count();
-  ImageRGB image = current_image();
+  ImageRGB image = state.mean();
   stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();
   return image;
 }

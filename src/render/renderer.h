@@ -22,7 +22,9 @@ using ProgressCallback = std::function<void(std::size_t tiles_done, std::size_t 
 // sample s of every pixel, so the image after k passes is the same as a render with
 // spp = k. The image depends only on the inputs and settings.seed, never on
 // settings.threads or settings.tile_size. `control` may end the render early (stop flag,
-// time limit: the image then averages what each pixel got) and asks for checkpoints.
+// time limit: the image then averages what each pixel got) and asks for checkpoints; with
+// control.state it continues a render from the exact sums and counts another left, pixel by
+// pixel (a stop mid-pass included), and ends with the uninterrupted render's image.
 // `accel` must have been built over scene.triangles. Throws std::invalid_argument on
 // invalid settings. Fills stats: seconds, rays (every ray traced), primary_rays,
 // primary_seconds and, for the path tracer, its batch counts. Camera rays are traced in

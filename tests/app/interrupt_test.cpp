@@ -15,12 +15,15 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
 
+#include "render/checkpoint_file.h"
 #include "render/image_io.h"
 #include "test_paths.h"
 
@@ -190,6 +193,30 @@ TEST_F(RenderProcess, CheckpointsWriteTheOutputsWhileRendering) {
   if (seen_while_running) expect_valid_images();
   EXPECT_EQ(wait_for(pid, 30.0), 0) << read("stderr");
   expect_valid_images();
+}
+
+// Ctrl-C in the middle of a render, then `--resume` of the EXR it left, in place and without
+// --spp (on to the interrupted render's target): the file ends byte for byte as the one an
+// uninterrupted render writes.
+TEST_F(RenderProcess, SigintThenResumeGivesTheUninterruptedFile) {
+  const std::vector<std::string> options = {"--spp", "120", "--checkpoint", "0.001", "--seed", "4"};
+  ASSERT_EQ(wait_for(start(options, 48), 120.0), 0) << read("stderr");
+  const fs::path straight = dir_ / "straight.exr";
+  fs::rename(exr(), straight);
+
+  const pid_t pid = start(options, 48);
+  for (int i = 0; i < 2000 && !fs::exists(exr()); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  interrupt_and_expect(pid, SIGINT, 130, kPromptExit);
+  const Checkpoint interrupted = read_checkpoint(exr());
+  EXPECT_LT(interrupted.state.passes, 120) << "the render was interrupted";
+
+  ASSERT_EQ(wait_for(start({"--resume", exr().string(), "--seed", "4"}, 48), 120.0), 0) << read("stderr");
+  auto bytes = [](const fs::path& f) {
+    std::ifstream in(f, std::ios::binary);
+    return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  };
+  EXPECT_EQ(bytes(exr()), bytes(straight));
+  expect_no_temporaries();
 }
 
 }  // namespace

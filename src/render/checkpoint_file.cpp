@@ -1,0 +1,126 @@
+#include "render/checkpoint_file.h"
+
+#include <algorithm>
+#include <array>
+#include <cstdint>
+#include <cstring>
+#include <stdexcept>
+#include <string_view>
+
+#include "render/content_hash.h"
+#include "render/image_io.h"
+
+namespace lancer {
+namespace {
+
+constexpr std::string_view kPrefix = "lancer.";
+constexpr std::array<const char*, 3> kRgb = {"R", "G", "B"};
+// The names that are not facts: the format, the passes, the digest.
+constexpr std::array<std::string_view, 3> kReserved = {"resume", "passes", "digest"};
+
+std::string hi_name(int c) { return std::string(kPrefix) + "sumHi." + kRgb[static_cast<std::size_t>(c)]; }
+std::string lo_name(int c) { return std::string(kPrefix) + "sumLo." + kRgb[static_cast<std::size_t>(c)]; }
+std::string count_name() { return std::string(kPrefix) + "count"; }
+
+CheckpointFacts sorted(CheckpointFacts facts) {
+  std::sort(facts.begin(), facts.end());
+  return facts;
+}
+
+// Everything the file says about the render, in one hash: a change anywhere shows.
+std::string digest(const RenderState& state, const CheckpointFacts& sorted_facts) {
+  ContentHash h;
+  h.add_u64(static_cast<std::uint64_t>(kCheckpointFormat));
+  h.add_u64(static_cast<std::uint64_t>(state.passes));
+  h.add_u64(static_cast<std::uint64_t>(state.width));
+  h.add_u64(static_cast<std::uint64_t>(state.height));
+  for (const auto& [key, value] : sorted_facts) {
+    h.add(key);
+    h.add(value);
+  }
+  h.add(state.count.data(), state.count.size() * sizeof(std::uint32_t));
+  h.add(state.sum.data(), state.sum.size() * sizeof(glm::dvec3));
+  return h.hex();
+}
+
+}  // namespace
+
+void write_checkpoint(const RenderState& state, const CheckpointFacts& facts, const std::filesystem::path& file) {
+  if (state.empty()) throw std::invalid_argument("write_checkpoint: empty render state");
+  const CheckpointFacts in_order = sorted(facts);
+  ExrExtras extras;
+  for (int c = 0; c < 3; ++c) {
+    std::vector<std::uint32_t> hi(state.pixels()), lo(state.pixels());
+    for (std::size_t p = 0; p < state.pixels(); ++p) {
+      std::uint64_t bits;
+      std::memcpy(&bits, &state.sum[p][c], sizeof bits);
+      hi[p] = static_cast<std::uint32_t>(bits >> 32);
+      lo[p] = static_cast<std::uint32_t>(bits);
+    }
+    extras.uint_channels.emplace_back(hi_name(c), std::move(hi));
+    extras.uint_channels.emplace_back(lo_name(c), std::move(lo));
+  }
+  extras.uint_channels.emplace_back(count_name(), state.count);
+  extras.ints = {{std::string(kPrefix) + "resume", kCheckpointFormat}, {std::string(kPrefix) + "passes", state.passes}};
+  for (const auto& [key, value] : in_order) {
+    if (key.empty() || std::find(kReserved.begin(), kReserved.end(), key) != kReserved.end())
+      throw std::invalid_argument("write_checkpoint: '" + key + "' cannot be a fact's key");
+    extras.strings.emplace_back(std::string(kPrefix) + key, value);
+  }
+  extras.strings.emplace_back(std::string(kPrefix) + "digest", digest(state, in_order));
+  write_exr(state.mean(), file, extras);
+}
+
+Checkpoint read_checkpoint(const std::filesystem::path& file) {
+  ExrExtras extras;
+  const ImageRGB image = read_exr(file, extras, kPrefix);
+  auto int_of = [&](std::string_view key) -> const int* {
+    for (const auto& [name, value] : extras.ints)
+      if (name.substr(kPrefix.size()) == key) return &value;
+    return nullptr;
+  };
+  const int* format = int_of("resume");
+  if (format == nullptr)
+    throw ImageError(file, "has no resume data (it was not written by lancer render, or by its sppm integrator)");
+  if (*format != kCheckpointFormat)
+    throw ImageError(file, "its resume data is of format " + std::to_string(*format) + ", this program reads format " +
+                               std::to_string(kCheckpointFormat));
+  auto damaged = [&](const std::string& what) { return ImageError(file, "damaged resume data: " + what); };
+  const int* passes = int_of("passes");
+  if (passes == nullptr) throw damaged("no lancer.passes attribute");
+
+  Checkpoint cp;
+  RenderState& st = cp.state;
+  st.width = image.width, st.height = image.height, st.passes = *passes;
+  auto channel = [&](const std::string& name) -> const std::vector<std::uint32_t>& {
+    for (const auto& [n, values] : extras.uint_channels)
+      if (n == name) return values;
+    throw damaged("no " + name + " channel");
+  };
+  st.count = channel(count_name());
+  st.sum.assign(st.pixels(), glm::dvec3(0.0));
+  for (int c = 0; c < 3; ++c) {
+    const std::vector<std::uint32_t>& hi = channel(hi_name(c));
+    const std::vector<std::uint32_t>& lo = channel(lo_name(c));
+    for (std::size_t p = 0; p < st.pixels(); ++p) {
+      const std::uint64_t bits = std::uint64_t{hi[p]} << 32 | lo[p];
+      std::memcpy(&st.sum[p][c], &bits, sizeof bits);
+    }
+  }
+  std::string stored_digest;
+  for (const auto& [name, value] : extras.strings) {
+    const std::string key = name.substr(kPrefix.size());
+    if (key == "digest") stored_digest = value;
+    else cp.facts.emplace_back(key, value);
+  }
+  cp.facts = sorted(std::move(cp.facts));
+  if (stored_digest.empty()) throw damaged("no lancer.digest attribute");
+  if (stored_digest != digest(st, cp.facts)) throw damaged("its digest does not match its contents (edited or corrupted?)");
+  // The digest vouches for the state; the picture must also be its mean, bit for bit.
+  const ImageRGB mean = st.mean();
+  if (std::memcmp(mean.rgb.data(), image.rgb.data(), mean.rgb.size() * sizeof(float)) != 0)
+    throw damaged("the picture is not the mean of the saved sums");
+  return cp;
+}
+
+}  // namespace lancer

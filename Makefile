@@ -35,10 +35,10 @@ bench-embree: build
 
 # The whole suite under AddressSanitizer + UndefinedBehaviorSanitizer, less the scale tests:
 # those named *Heavy* (tens of millions of watertightness rays, a 600,000-triangle build, a
-# timed 512x512 interrupt) and KdPacketCamera (1.6 million camera rays per ISA). They repeat
-# code paths the sanitized suite runs at small scale (KdPacket, KdRobustness, WatertightMesh,
-# KdMemory, RenderProcess) at a size the sanitizers make too slow for CI (KdPacketCamera
-# alone: about 1,000 test-seconds). `make test` runs them; SANITIZE_EXCLUDE= runs everything.
+# timed 512x512 interrupt, SPPM against the path tracer over 12 renders) and KdPacketCamera
+# (1.6 million camera rays per ISA). They repeat code paths the sanitized suite runs at small
+# scale (KdPacket, KdRobustness, WatertightMesh, KdMemory, RenderProcess, Sppm) at a size the
+# sanitizers make too slow for CI (KdPacketCamera alone: about 1,000 test-seconds). `make test` runs them; SANITIZE_EXCLUDE= runs everything.
 SANITIZE_EXCLUDE ?= Heavy|KdPacketCamera
 test-sanitize: deps
 	cmake --preset sanitize >/dev/null

@@ -97,7 +97,9 @@ TEST(Sppm, CausticThroughAGlassPaneHasItsClosedForm) {
 // iterations, 6 to 10 standard errors; with a radius of 0.01 (about 1/55 of the box) the
 // blur's share falls below the noise, which is what is tested: every difference within 5
 // combined standard errors over 6 seeds each.
-TEST(Sppm, AgreesWithThePathTracerOnTheCornellBox) {
+// *Heavy: about 20 s here and 4 minutes under the sanitizers, which run SPPM's code paths in
+// the tests above and below; `make test-sanitize` skips it.
+TEST(SppmHeavy, AgreesWithThePathTracerOnTheCornellBox) {
   const Scene scene = load_scene(test::scenes_dir() / "cornell-box.gltf");
   const KdTree accel(scene.triangles);
   constexpr int kSize = 64, kSeeds = 6, kSamples = 256;

@@ -15,6 +15,8 @@
 #include "render/primary_block.h"
 #include "render/sppm.h"
 #include "render/tile_scheduler.h"
+#include "simd/out_of_memory.h"
+#include "simd/process_memory.h"
 
 namespace lancer {
 
@@ -67,6 +69,14 @@ ImageRGB render_sppm(const Scene& scene, const Accelerator& accel, const Pinhole
     const float r = kSppmRadiusPixels * pixel_footprint * (camera.orthographic() ? 1.0f : distance);
     return r > 0.0f && std::isfinite(r) ? r : 0.0f;
   };
+
+  // What every pixel holds for the whole render (136 bytes: 2^28 pixels would need 36 GiB),
+  // refused before anything is allocated where the machine cannot hold it: the vectors would
+  // be granted by the kernel's overcommit and the process killed while filling them.
+  const double per_pixel = double(sizeof(PixelStats) + sizeof(SppmIntegrator::VisiblePoint));
+  if (const std::int64_t physical = physical_memory_bytes();
+      physical > 0 && double(pixels) * per_pixel > double(physical))
+    throw OutOfMemory(static_cast<std::size_t>(double(pixels) * per_pixel));
 
   // Held for the whole render and reused by every iteration: memory stays flat.
   std::vector<PixelStats> pixel_stats(pixels);

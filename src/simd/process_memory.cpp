@@ -4,6 +4,8 @@
 #include <cstdlib>
 #include <cstring>
 
+#include <unistd.h>
+
 namespace lancer {
 namespace {
 
@@ -27,5 +29,10 @@ std::int64_t status_kib(const char* key) noexcept {
 
 std::int64_t resident_bytes() noexcept { return status_kib("VmRSS:"); }
 std::int64_t peak_resident_bytes() noexcept { return status_kib("VmHWM:"); }
+
+std::int64_t physical_memory_bytes() noexcept {
+  const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
+  return pages > 0 && page > 0 ? std::int64_t(pages) * std::int64_t(page) : -1;
+}
 
 }  // namespace lancer

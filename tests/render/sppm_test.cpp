@@ -23,6 +23,7 @@
 #include "render_test_scenes.h"
 #include "scene/load_scene.h"
 #include "scene/procedural.h"
+#include "simd/out_of_memory.h"
 #include "simd/process_memory.h"
 #include "test_paths.h"
 
@@ -147,6 +148,29 @@ TEST(Sppm, SceneWithoutLightsIsBlackAndAnEnvironmentLightsIt) {
   const ImageRGB image = render_image(scene, accel, camera, s, stats);
   for (float v : image.rgb) sum += v;
   EXPECT_NEAR(sum / double(image.rgb.size()), 0.5, 0.01);
+}
+
+// An image whose per-pixel state cannot fit in this machine's memory is refused before
+// anything is allocated, with the size asked for (not killed while filling its buffers).
+TEST(Sppm, AnImageTooLargeForMemoryIsRefusedWithItsSize) {
+  constexpr int kSide = 16384;  // 2^28 pixels, the most the command line accepts
+  const double need = double(kSide) * kSide * 100.0;  // at least 100 bytes per pixel
+  if (physical_memory_bytes() <= 0 || double(physical_memory_bytes()) >= 1.4 * need)
+    GTEST_SKIP() << "this machine has the memory for it";
+  Scene scene;
+  test::add_square_z(scene, 0.0f, 0.0f, 0.0f, 2.0f, true, test::add_material(scene, test::diffuse_material(glm::vec3(0.5f))));
+  const KdTree accel(scene.triangles);
+  const PinholeCamera camera = PinholeCamera::look_at(glm::vec3(0.0f, 0.0f, 1.0f), glm::vec3(0.0f),
+                                                      glm::vec3(0.0f, 1.0f, 0.0f), 0.8f, kSide, kSide);
+  RenderSettings s = sppm_settings(kSide, 1);
+  RenderStats stats;
+  try {
+    render_image(scene, accel, camera, s, stats);
+    FAIL() << "rendered";
+  } catch (const OutOfMemory& e) {
+    EXPECT_GE(double(e.bytes()), need);
+  }
+  EXPECT_LT(peak_resident_bytes(), std::int64_t(4) << 30) << "the buffers were allocated before the refusal";
 }
 
 // ---- Determinism and memory ---------------------------------------------------------------

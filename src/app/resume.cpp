@@ -1,6 +1,7 @@
 #include "app/resume.h"
 
 #include <algorithm>
+#include <charconv>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -153,7 +154,13 @@ RenderState take_resumed_state(Checkpoint checkpoint, const RenderOptions& optio
   const std::string head = "--resume " + options.resume + ": ";
   if (!options.spp_given && options.time_limit_s <= 0.0) {
     for (const auto& [key, value] : checkpoint.facts)
-      if (key == "spp") settings.spp = std::stoi(value);
+      if (key == "spp") {
+        int spp = 0;
+        const auto [end, error] = std::from_chars(value.data(), value.data() + value.size(), spp);
+        if (error != std::errc() || end != value.data() + value.size() || spp < 1)
+          throw std::invalid_argument(head + "its spp fact '" + value + "' is not a sample count: the file is damaged");
+        settings.spp = spp;
+      }
     if (settings.spp == open_spp)
       throw std::invalid_argument(head + "it was a --time render without --spp; give --spp N or --time S to say how "
                                          "far to go on");
@@ -161,6 +168,7 @@ RenderState take_resumed_state(Checkpoint checkpoint, const RenderOptions& optio
   facts = render_facts(options, settings, scene, camera);
   check_resumable(checkpoint, facts, options.resume);
   const RenderState& state = checkpoint.state;
+  if (state.count.empty()) throw std::invalid_argument(head + "it holds no pixels");
   const std::uint32_t most = *std::max_element(state.count.begin(), state.count.end());
   if (static_cast<std::int64_t>(most) > settings.spp)
     throw std::invalid_argument(head + "it already has " + std::to_string(most) + " samples per pixel, more than --spp " +

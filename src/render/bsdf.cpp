@@ -73,6 +73,15 @@ float Bsdf::delta_probability(const Outgoing& out) const {
   return (coat_.smooth() ? out.p_coat : 0.0f) + out.p_base * base_.delta_probability(out.base);
 }
 
+bool Bsdf::picks_delta(const Outgoing& out, float u_split, glm::vec2 u) const {
+  if (!layered_) return base_.picks_delta(out.base, u_split, u);
+  if (!out.base.valid) return false;
+  if (u.x < out.p_coat) return coat_.smooth();
+  if (u.x < out.p_coat + out.p_sheen || !(out.p_base > 0.0f)) return false;
+  u.x = std::min((u.x - out.p_coat - out.p_sheen) / out.p_base, kBelowOne);
+  return base_.picks_delta(out.base, u_split, u);
+}
+
 BsdfEval Bsdf::evaluate(const Outgoing& out, const glm::vec3& wi) const {
   if (!layered_) return base_.evaluate(out.base, wi);
   if (!out.base.valid) return {};
@@ -118,7 +127,8 @@ std::optional<BsdfSample> Bsdf::sample(const Outgoing& out, float u_split, glm::
     if (!ci) return std::nullopt;
     wi_world = glm::normalize(coat_frame_.to_world(out.coat_flipped ? mirror_z(*ci) : *ci));
     if (!(oriented_local(base_.frame(), out.base.flipped, wi_world).z > 0.0f)) return std::nullopt;
-    if (coat_.smooth()) return BsdfSample{wi_world, glm::vec3(out.coat_weight / out.p_coat), out.p_coat, true, false};
+    if (coat_.smooth())
+      return BsdfSample{wi_world, glm::vec3(out.coat_weight / out.p_coat), out.p_coat, true, false, true};
   } else if (u.x < out.p_coat + out.p_sheen) {
     u.x = std::min((u.x - out.p_coat) / out.p_sheen, kBelowOne);
     const std::optional<glm::vec3> li = sheen_.sample(out.base.lo, u);

@@ -70,6 +70,8 @@ class Bsdf {
   bool has_diffuse() const { return base_.has_diffuse() || sheen_.exists(); }
   // The probability that sample(out, ...) returns a delta sample (when its direction exists).
   float delta_probability(const Outgoing& out) const;
+  // Whether sample(out, u_split, u) picks a delta lobe, whether or not its direction exists.
+  bool picks_delta(const Outgoing& out, float u_split, glm::vec2 u) const;
   bool entering() const { return base_.entering(); }
   float eta() const { return base_.eta(); }
   bool thin_walled() const { return base_.thin_walled(); }

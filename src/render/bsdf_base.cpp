@@ -93,6 +93,16 @@ float BaseBsdf::delta_probability(const Outgoing& out) const {
   return interface * p;
 }
 
+bool BaseBsdf::picks_delta(const Outgoing& out, float u_split, glm::vec2 u) const {
+  // sample()'s choices, in its order.
+  if (!out.valid || !split_at_normal_) return false;
+  const LobeChoice& lobes = out.lobes;
+  if (!(u.x < lobes.interface || (lobes.diffuse == 0.0f && lobes.interface > 0.0f))) return false;
+  const InterfaceSplit split = interface_split_at_normal(out.lo);
+  if (u_split < split.reflect) return reflection_.smooth();
+  return split.refract > 0.0f && delta_transmission();
+}
+
 BaseBsdf::Outgoing BaseBsdf::outgoing(const glm::vec3& wo) const {
   Outgoing out;
   out.wo = wo;

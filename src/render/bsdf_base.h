@@ -143,6 +143,7 @@ struct BsdfSample {
   float pdf;         // solid-angle pdf; for delta lobes the discrete probability of the lobe, and `delta` is set
   bool delta;
   bool transmitted;  // wi on the other side of the shading surface than wo
+  bool layer = false;  // drawn from a layer over the base (the clearcoat's mirror), not the base
 };
 
 // A direction's value and density together (what light sampling with MIS needs).
@@ -217,6 +218,9 @@ class BaseBsdf {
   // The probability that sample(out, ...) picks a delta lobe (the smooth mirror, or a delta
   // transmission), for the integrators that handle the delta and non-delta parts apart.
   float delta_probability(const Outgoing& out) const;
+  // Whether sample(out, u_split, u) picks a delta lobe (its direction may still not exist):
+  // the event whose probability delta_probability gives.
+  bool picks_delta(const Outgoing& out, float u_split, glm::vec2 u) const;
   bool entering() const { return entering_; }
   // n(far side) / n(wo side) for the macroscopic refraction: ior when entering, 1 / ior when
   // exiting, 1 for a thin wall (light leaves into air again, unbent).

@@ -22,7 +22,7 @@ class ContentHash {
       mix(word);
     }
     std::uint64_t tail = 0;
-    std::memcpy(&tail, p, size);
+    if (size > 0) std::memcpy(&tail, p, size);  // p may be null for an empty vector's data()
     mix(tail ^ (std::uint64_t{size} << 56));  // marks where each add() ended
   }
   // Length first, so that ("ab", "c") and ("a", "bc") differ.

@@ -251,6 +251,11 @@ void decode_exr_extras(Imf::InputFile& in, ImageRGB& image, std::string_view pre
   const Imf::ChannelList& channels = in.header().channels();
   for (auto it = channels.begin(); it != channels.end(); ++it) {
     if (!wanted(it.name()) || it.channel().type != Imf::UINT) continue;
+    // Each such channel costs a full image of memory: a file may not ask for more than a
+    // writer of this program ever puts there.
+    if (extras.uint_channels.size() >= kMaxExrExtraChannels)
+      throw ImageError(file, "more than " + std::to_string(kMaxExrExtraChannels) + " '" + std::string(prefix) +
+                                 "' integer channels");
     full_resolution_channel(channels, it.name(), file);
     auto& [name, values] = extras.uint_channels.emplace_back(it.name(), std::vector<std::uint32_t>(image.rgb.size() / 3));
     frame.insert(name, Imf::Slice::Make(Imf::UINT, values.data(), window, sizeof(std::uint32_t),

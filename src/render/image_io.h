@@ -50,6 +50,10 @@ ImageRGB read_image(const std::filesystem::path& file);
 // What an EXR file may carry beside its picture (the render state of `lancer render --resume`):
 // 32-bit unsigned channels of width * height values each, row-major, and string and int
 // header attributes. Other programs show the RGB picture and keep or ignore the rest.
+// The most extra UINT channels read_exr reads under one prefix (a checkpoint has 7): each
+// costs a full image of memory, so a hostile file may not ask for hundreds.
+inline constexpr std::size_t kMaxExrExtraChannels = 16;
+
 struct ExrExtras {
   std::vector<std::pair<std::string, std::vector<std::uint32_t>>> uint_channels;
   std::vector<std::pair<std::string, std::string>> strings;

@@ -130,14 +130,18 @@ void walk_photon(const Scene& scene, const Accelerator& accel, const LightEmissi
     // evaluated rather than assumed symmetric: the folding mirrors only wi, and a rough
     // refraction's BTDF differs from its transpose by eta^2 (bsdf_base.h, "importance form").
     // Delta lobes are symmetric: their weight with the shading-normal correction (Veach's
-    // eq. 5.17) is exact.
+    // eq. 5.17) is exact, but for the layers' share of a base lobe under a coat or a sheen
+    // (Bsdf::Outgoing::base_scale), which the camera side takes at its own direction, b here.
     const glm::vec3& b = bs->wi;
     const float a_ng = std::abs(glm::dot(wo, si.ng));
     if (!(a_ng > 0.0f)) return;
     if (bs->delta) {
       const float b_ns = std::abs(glm::dot(b, si.ns));
       if (!(b_ns > 0.0f)) return;
-      beta *= bs->weight * (std::abs(glm::dot(wo, si.ns)) * std::abs(glm::dot(b, si.ng)) / (a_ng * b_ns));
+      float layers = 1.0f;
+      if (sc.bsdf.layered() && !bs->layer)
+        layers = sc.out.base_scale > 0.0f ? sc.bsdf.outgoing(b).base_scale / sc.out.base_scale : 0.0f;
+      beta *= bs->weight * (layers * std::abs(glm::dot(wo, si.ns)) * std::abs(glm::dot(b, si.ng)) / (a_ng * b_ns));
     } else {
       const Bsdf::Outgoing back = sc.bsdf.outgoing(b);
       const glm::vec3 k =

@@ -73,7 +73,8 @@ void check_state(const RenderState& st, const RenderSettings& s) {
     fail("it is " + std::to_string(st.width) + "x" + std::to_string(st.height) + " but the image is " +
          std::to_string(s.width) + "x" + std::to_string(s.height));
   if (st.sum.size() != st.pixels() || st.count.size() != st.pixels()) fail("sums or counts are not one per pixel");
-  if (st.passes < 0 || st.passes > s.spp)
+  if (st.passes < 0) fail(std::to_string(st.passes) + " passes done: a count cannot be negative");
+  if (st.passes > s.spp)
     fail(std::to_string(st.passes) + " passes done, more than the " + std::to_string(s.spp) + " asked for");
   const auto ahead = static_cast<std::uint32_t>(st.passes) + (st.passes < s.spp ? 1u : 0u);
   for (std::uint32_t c : st.count)

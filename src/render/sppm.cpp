@@ -182,18 +182,20 @@ SppmIntegrator::CameraPath SppmIntegrator::camera_path(const Ray& camera_ray, co
     std::optional<BsdfSample> bs;
     if (visible_point) {
       // The non-delta lobes are the visible point's; a delta lobe of the same BSDF (a smooth
-      // coat over a diffuse base) goes on with the probability sample() gives it, the visible
-      // point taking the rest. (A delta sample whose direction does not exist, a coat
-      // direction below a normal-mapped base, leaves its share to the visible point.)
+      // coat over a diffuse base) goes on with the probability sample() picks it, the visible
+      // point taking the rest. The choice is sample()'s own, so that a delta lobe picked whose
+      // direction does not exist (a coat direction below a normal-mapped base) ends the path
+      // as it ends the path tracer's.
       const float p_delta = sc.bsdf.delta_probability(sc.out);
-      if (p_delta > 0.0f) bs = sc.sample(u_split, u_bsdf);
-      if (!bs || !bs->delta) {
+      if (!(p_delta > 0.0f && sc.bsdf.picks_delta(sc.out, u_split, u_bsdf))) {
         if (p_delta < 1.0f) {
           result.vp = {ray, hit, beta / (1.0f - p_delta), distance, bounces, true};
           if (!is_finite(result.vp.beta)) result.vp.valid = false;
         }
         break;
       }
+      bs = sc.sample(u_split, u_bsdf);
+      if (!bs || !bs->delta) break;
     } else {
       bs = sc.sample(u_split, u_bsdf);
       if (!bs) break;

@@ -184,6 +184,17 @@ TEST_F(Resume, ThePhotonIntegratorResumesAndItsOptionsAreChecked) {
   expect_refused(with(photon, {"--caustic-radius", "0.01"}), "--caustic-radius");
 }
 
+// A checkpoint whose digest holds but whose spp fact is no number (a file written by hand)
+// gets a message, not a bare parse error.
+TEST_F(Resume, ADamagedSppFactIsNamed) {
+  RenderState state;
+  state.reset(24, 24);
+  write_checkpoint(state, {{"spp", "abc"}, {"seed", "7"}}, dir_ / "hand.exr");
+  const Run r = render("resumed.exr", {"--resume", path("hand.exr"), "--seed", "7"});
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("spp fact 'abc'"), std::string::npos) << r.err;
+}
+
 TEST_F(Resume, RefusesFilesItCannotResume) {
   // sppm writes a plain EXR; so do other programs.
   ASSERT_EQ(render("sppm.exr", {"--spp", "2", "--integrator", "sppm"}).code, 0);

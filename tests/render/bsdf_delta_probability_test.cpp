@@ -1,4 +1,5 @@
-// Bsdf::delta_probability: the probability that sample() returns a delta sample, which the
+// Bsdf::delta_probability: the probability that sample() returns a delta sample, and
+// Bsdf::picks_delta, the event itself for given sample values; which the
 // photon mapper uses to split a visible point's BSDF into the delta part it follows and the
 // non-delta part it gathers with. Checked against the frequency of delta samples over many
 // draws, for every kind of delta lobe, alone and mixed with non-delta lobes.
@@ -83,16 +84,23 @@ TEST(BsdfDeltaProbability, IsTheFrequencyOfDeltaSamples) {
         EXPECT_GE(p, c.expected_min) << what;
         EXPECT_LE(p, c.expected_max) << what;
         std::uint64_t state = 12345;
-        int delta = 0, failed = 0;
+        int delta = 0, failed = 0, picked = 0;
         for (int k = 0; k < kDraws; ++k) {
           const float u_split = uniform(state);
           const glm::vec2 u(uniform(state), uniform(state));
           const std::optional<BsdfSample> s = bsdf.sample(out, u_split, u);
+          const bool picks = bsdf.picks_delta(out, u_split, u);
+          picked += picks;
           if (!s)
             ++failed;
           else if (s->delta)
             ++delta;
+          // picks_delta is sample()'s own choice: a delta sample exactly when it says so.
+          if (s) {
+            ASSERT_EQ(s->delta, picks) << what << ", draw " << k;
+          }
         }
+        EXPECT_NEAR(double(picked) / kDraws, p, 5.0 * std::sqrt(double(p) * (1.0 - p) / kDraws) + 1e-4) << what;
         // Binomial: five standard deviations, or 1 draw in 10^4 where p is 0 or 1 (a failed
         // non-delta sample is no delta sample; none of these delta lobes can fail).
         const double sd = std::sqrt(double(p) * (1.0 - p) / kDraws);

@@ -293,5 +293,22 @@ TEST_F(CheckpointFile, RefusesADamagedFile) {
   }
 }
 
+// A file that asks for hundreds of full-image integer channels (each a full image of memory
+// when read) is refused before they are allocated.
+TEST_F(CheckpointFile, RefusesAFileWithTooManyChannels) {
+  const RenderState state = stopped_after(settings(3, 1), 4);
+  const fs::path file = dir_ / "many.exr";
+  ExrExtras extras;
+  for (std::size_t i = 0; i <= kMaxExrExtraChannels; ++i)
+    extras.uint_channels.emplace_back("lancer.x" + std::to_string(i), std::vector<std::uint32_t>(state.pixels()));
+  write_exr(state.mean(), file, extras);
+  try {
+    read_checkpoint(file);
+    FAIL() << "read";
+  } catch (const ImageError& e) {
+    EXPECT_NE(std::string(e.what()).find("integer channels"), std::string::npos) << e.what();
+  }
+}
+
 }  // namespace
 }  // namespace lancer

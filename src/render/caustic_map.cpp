@@ -14,8 +14,6 @@ namespace {
 // Caustic photons are one sampler stream, told apart from pixels (y < 2^14) and from SPPM's
 // photons (y = 0xFFFFFFFF) by their y: photon i is sample i of pixel (i >> 32, y).
 constexpr std::uint32_t kCausticStreamY = 0xFFFFFFFEu;
-// Photons traced by one task: each chunk keeps its own list, joined in chunk order.
-constexpr std::size_t kPhotonChunk = 4096;
 
 }  // namespace
 
@@ -30,17 +28,13 @@ CausticMap::CausticMap(const Scene& scene, const Accelerator& accel, const Light
       inv_photons_(settings.photons > 0 ? 1.0f / static_cast<float>(settings.photons) : 0.0f) {
   if (emission_.empty() || settings.photons <= 0 || settings.max_depth < 2 || !(max_radius_ > 0.0f)) return;
   const auto count = static_cast<std::size_t>(settings.photons);
-  const std::size_t chunks = (count + kPhotonChunk - 1) / kPhotonChunk;
-  std::vector<std::vector<Stored>> chunk_photons(chunks);
-  std::vector<std::uint64_t> chunk_rays(chunks, 0);
-  runner.run_ranges(chunks, 1, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t c = begin; c < end; ++c) {
-      const std::size_t last = std::min(count, (c + 1) * kPhotonChunk);
-      for (std::size_t i = c * kPhotonChunk; i < last; ++i) trace_photon(i, chunk_photons[c], chunk_rays[c]);
-    }
-  });
+  std::vector<std::vector<Stored>> chunk_photons;
+  rays_ = trace_photons_in_chunks(runner, count, chunk_photons,
+                                  [&](std::size_t i, std::vector<Stored>& out, std::uint64_t& rays) {
+                                    trace_photon(i, out, rays);
+                                  });
   std::size_t stored = 0;
-  for (std::size_t c = 0; c < chunks; ++c) stored += chunk_photons[c].size(), rays_ += chunk_rays[c];
+  for (const std::vector<Stored>& chunk : chunk_photons) stored += chunk.size();
   std::vector<glm::vec3> points;
   std::vector<CausticPhoton> in_order;
   points.reserve(stored);

@@ -10,40 +10,14 @@
 #include "render/bsdf.h"
 #include "render/coverage.h"
 #include "render/light_sampling.h"
+#include "render/path_rules.h"
 #include "render/shading_inputs.h"
 #include "render/shadow_ray.h"
 #include "render/surface_bsdf.h"
 
 namespace lancer {
 
-namespace {
-
-constexpr int kRouletteDepth = 3;
-constexpr float kMinSurvival = 0.05f;
-
-// Where each bounce's sample values lie among its dimensions.
-constexpr std::uint32_t kLightPickDimension = 0;     // which emissive triangle
-constexpr std::uint32_t kLightPointDimensions = 1;   // and 2: the point on it
-constexpr std::uint32_t kEnvironmentDimensions = 3;  // and 4: a direction toward the environment
-constexpr std::uint32_t kSplitDimension = 5;         // reflection or refraction
-constexpr std::uint32_t kBsdfDimensions = 6;         // and 7: the direction within the lobe
-constexpr std::uint32_t kRouletteDimension = 8;
-constexpr std::uint32_t kBounceDimensions = 9;   // with one light sample
-constexpr std::uint32_t kLightDimensions = 3;    // each further light sample: pick and point
-
-// Veach's power heuristic with beta = 2, weight of the strategy with density `a`.
-float power_heuristic(float a, float b) {
-  if (!(a > 0.0f)) return 0.0f;
-  if (std::isinf(a)) return 1.0f;
-  const float a2 = a * a, b2 = b * b;
-  return std::isfinite(b2) ? a2 / (a2 + b2) : 0.0f;
-}
-
-float max_component(const glm::vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
-bool is_black(const glm::vec3& v) { return v.x <= 0.0f && v.y <= 0.0f && v.z <= 0.0f; }
-bool is_finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
-}  // namespace
+using namespace path_rules;
 
 PathIntegrator::PathIntegrator(const Scene& scene, const Accelerator& accel, const AreaLights& area_lights,
                                const Environment* environment, int max_depth, int light_samples,
@@ -244,7 +218,7 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
   // The dimensions of one bounce: a fixed layout whatever is used, each value computed
   // only where it is used.
   const std::uint32_t dims = sampler.dimension();
-  sampler.skip(kBounceDimensions + kLightDimensions * (light_samples_ - 1));
+  sampler.skip(bounce_dimensions(light_samples_));
   // Origins of the rays leaving this point: pushed off the triangle just far enough that
   // the ray cannot hit it again, for each ray's exact direction (ray_offset.h), solved for
   // the whole bounce at once (solve_origins_of_bounce).
@@ -303,51 +277,17 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
   if (path.bounces >= max_depth_) return false;
   const std::uint32_t leaf = leave();
 
-  const Bsdf bsdf = surface_bsdf(si);
-  const Bsdf::Outgoing wo = bsdf.outgoing(-dir);
-  // The BSDF folded where the shading and geometric normals disagree (shading_inputs.h).
-  // Where the two normals are the same (flat shading) no direction lies in the wedge.
-  const bool leaning = si.ns != si.ng;
-  auto evaluate = [&](const glm::vec3& wi) {
-    if (!leaning) return bsdf.evaluate(wo, wi);
-    return evaluate_folded<BsdfEval>(si, wi, [&](const glm::vec3& w) { return bsdf.evaluate(wo, w); });
-  };
+  // The BSDF, folded where the shading and geometric normals disagree (shading_inputs.h).
+  const SurfaceScattering sc(si, -dir);
+  auto evaluate = [&](const glm::vec3& wi) { return sc.evaluate(wi); };
   auto queue_shadow = [&](const ShadowAim& aim, const glm::vec3& contribution) {
     ++ray_count;
     scratch.shadows.push_back({Ray{}, aim, contribution, index, leaf});
   };
 
-  if (!bsdf.is_delta_only()) {
-    // Emissive triangles: light_samples_ samples, the first in the bounce's base layout,
-    // the others after it, each combined with the BSDF sample by MIS as one strategy of
-    // light_samples_ samples.
-    for (int k = 0; k < light_samples_ && !area_lights_.empty(); ++k) {
-      const std::uint32_t at = k == 0 ? dims : dims + kBounceDimensions + kLightDimensions * (k - 1);
-      const LightSample ls = sample_area_light(scene_, area_lights_, si.p, sampler.get1(at + kLightPickDimension),
-                                               sampler.get2(at + kLightPointDimensions));
-      if (!ls.valid) continue;
-      const BsdfEval e = evaluate(ls.wi);
-      if (is_black(e.f)) continue;
-      const float light_pdf = light_samples_ * ls.pdf_solid_angle();
-      queue_shadow(aim_at_area_light(ls.point.point, ls.point.normal),
-                   beta * e.f * ls.radiance * (power_heuristic(light_pdf, e.pdf) / light_pdf));
-    }
-    // The environment.
-    if (environment_) {
-      const EnvSample es = environment_->sample(sampler.get2(dims + kEnvironmentDimensions));
-      const BsdfEval e = es.pdf > 0.0f ? evaluate(es.dir) : BsdfEval{};
-      if (!is_black(e.f) && !is_black(es.radiance)) {
-        queue_shadow(aim_along(es.dir), beta * e.f * es.radiance * (power_heuristic(es.pdf, e.pdf) / es.pdf));
-      }
-    }
-    // Punctual lights: delta lights, one shadow ray each.
-    for (const PunctualLight& light : scene_.lights) {
-      const PunctualIncidence in = illuminate(light, si.p);
-      if (is_black(in.irradiance)) continue;
-      const glm::vec3 f = evaluate(in.wi).f;
-      if (is_black(f)) continue;
-      queue_shadow(aim_at_punctual(light, in.wi), beta * f * in.irradiance);
-    }
+  if (!sc.bsdf.is_delta_only()) {
+    next_event_estimation(scene_, area_lights_, environment_, light_samples_, si.p, sampler, dims, beta, true,
+                          evaluate, queue_shadow);
     // Caustics: light that reaches this point through delta bounces, from the photon map.
     // This vertex is scattering event bounces + 1, so the photons may have bounced
     // max_depth - bounces - 1 times.
@@ -356,23 +296,15 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
                                       [&](const glm::vec3& w) { return evaluate(w).f; }, scratch.caustic);
   }
 
-  // Continue the path by sampling the BSDF (the split value only where it is read).
-  const float u_split = bsdf.reads_split() ? sampler.get1(dims + kSplitDimension) : 0.0f;
-  const std::optional<BsdfSample> bs = bsdf.sample(wo, u_split, sampler.get2(dims + kBsdfDimensions));
+  // Continue the path by sampling the BSDF (the split value only where it is read); MIS
+  // needs the folded density of the direction (SurfaceScattering::sample).
+  const float u_split = sc.bsdf.reads_split() ? sampler.get1(dims + kSplitDimension) : 0.0f;
+  const std::optional<BsdfSample> bs = sc.sample(u_split, sampler.get2(dims + kBsdfDimensions));
   if (!bs) return false;
-  glm::vec3 wi = bs->wi;
-  if (leaning && !fold_direction(si, wi)) return false;
+  const glm::vec3& wi = bs->wi;
   beta *= bs->weight;
   if (is_black(beta) || !is_finite(beta)) return false;
-  // MIS needs the folded density of wi: bs->pdf plus that of wi's other preimage, which
-  // exists only near a leaning shading normal.
   path.prev_pdf = bs->pdf;
-  if (leaning && !bs->delta) {
-    if (wi != bs->wi)
-      path.prev_pdf += bsdf.evaluate(wo, wi).pdf;
-    else if (const glm::vec3 m = mirror_through_surface(si, wi); !sides_agree(si, m))
-      path.prev_pdf += bsdf.evaluate(wo, m).pdf;
-  }
   path.prev_delta = bs->delta;
   path.scattered |= !bs->delta;
   // Through a volume boundary the path enters (front face) or leaves the medium; through a
@@ -385,7 +317,7 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
     // equal error (three seeds, 128 spp, against the Cycles reference; times on AVX-512, two
     // threads): MSE -16 % for 7 % more time on the Cornell box, -9 % for 9 % with the spheres, -8 % for 5 % with depth
     // of field, -3 % for 5 % on the still life.
-    const float survive = std::max(kMinSurvival, std::min(1.0f, std::sqrt(max_component(beta))));
+    const float survive = survival(max_component(beta));
     if ((u_roulette >= 0.0f ? u_roulette : sampler.get1(dims + kRouletteDimension)) >= survive) return false;
     beta /= survive;
   }

@@ -8,7 +8,6 @@ namespace lancer {
 void PhotonGrid::build(const std::vector<Photon>& photons, float cell_size) {
   if (!(cell_size > 0.0f) || !std::isfinite(cell_size)) throw std::invalid_argument("photon grid: bad cell size");
   if (photons.size() >= (std::size_t(1) << 31)) throw std::length_error("photon grid: more than 2^31 photons");
-  cell_size_ = cell_size;
   inv_cell_ = 1.0 / static_cast<double>(cell_size);
   // About one bucket per photon: short chains, and a table no bigger than the photons.
   std::size_t buckets = 1;

@@ -38,13 +38,7 @@ class PhotonGrid {
   template <class F>
   void for_each_within(const glm::vec3& p, float radius, F&& f) const;
 
-  float cell_size() const { return cell_size_; }
   std::size_t size() const { return sorted_.size(); }
-  // Bytes held (capacity, not size): what a long render keeps.
-  std::size_t memory_bytes() const {
-    return sorted_.capacity() * sizeof(Photon) + start_.capacity() * sizeof(std::uint32_t) +
-           bucket_of_.capacity() * sizeof(std::uint32_t);
-  }
 
  private:
   std::uint32_t bucket(std::int64_t x, std::int64_t y, std::int64_t z) const {
@@ -59,7 +53,6 @@ class PhotonGrid {
     return static_cast<std::int64_t>(c < -1e15 ? -1e15 : (c > 1e15 ? 1e15 : c));
   }
 
-  float cell_size_ = 1.0f;
   double inv_cell_ = 1.0;
   std::uint64_t mask_ = 0;
   std::vector<Photon> sorted_;

@@ -7,17 +7,19 @@
 // path tracer's rays do (render/coverage.h), is attenuated inside volumes (Beer-Lambert),
 // takes a punctual light's range window at its first surface, scatters by the adjoint of
 // the kernel the camera side gathers with (Veach 1997, sec. 3.7.5 and 5.3; see walk_photon),
-// and meets Russian roulette from the fourth bounce on with the path tracer's rule, relative
-// to the power it left with.
+// and meets Russian roulette with the path tracer's rule (path_rules.h), relative to the
+// power it left with.
 //
 // Its random numbers are sample `index` of the sampler stream (index >> 32, stream_y): each
 // photon is a pure function of (index, stream, seed), whatever the thread that traces it.
 #pragma once
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <optional>
+#include <vector>
 
 #include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
@@ -27,9 +29,11 @@
 #include "render/coverage.h"
 #include "render/light_emission.h"
 #include "render/lights.h"
+#include "render/path_rules.h"
 #include "render/shading_inputs.h"
 #include "render/sobol_sampler.h"
 #include "render/surface_bsdf.h"
+#include "render/tile_scheduler.h"
 
 namespace lancer {
 
@@ -56,13 +60,6 @@ constexpr std::uint32_t kSplitDimension = 0;
 constexpr std::uint32_t kBsdfDimensions = 1;  // and 2
 constexpr std::uint32_t kRouletteDimension = 3;  // also the coverage choice, rescaled
 constexpr std::uint32_t kBounceDimensions = 4;
-// As the path tracer (path.cpp).
-constexpr int kRouletteDepth = 3;
-constexpr float kMinSurvival = 0.05f;
-
-inline float max_component(const glm::vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
-inline bool is_black(const glm::vec3& v) { return v.x <= 0.0f && v.y <= 0.0f && v.z <= 0.0f; }
-inline bool is_finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 }  // namespace photon_walk
 
 // Walks photon `index` of stream (stream_y, seed), its power multiplied by power_scale.
@@ -73,6 +70,8 @@ template <class Visit>
 void walk_photon(const Scene& scene, const Accelerator& accel, const LightEmission& emission, std::uint64_t index,
                  std::uint32_t stream_y, std::uint64_t seed, float power_scale, std::uint64_t& rays, Visit&& visit) {
   using namespace photon_walk;
+  using path_rules::is_black, path_rules::is_finite, path_rules::max_component, path_rules::survival;
+  using path_rules::kRouletteDepth;
   SobolSampler sampler(static_cast<std::uint32_t>(index >> 32), stream_y, static_cast<std::uint32_t>(index), seed);
   const EmittedPhoton emitted = emission.sample(sampler.get1(kEmitPickDimension), sampler.get2(kEmitPositionDimensions),
                                                 sampler.get2(kEmitDirectionDimensions));
@@ -153,15 +152,36 @@ void walk_photon(const Scene& scene, const Accelerator& accel, const LightEmissi
     if (bs->transmitted && !si.thin_walled) in_volume = si.front_face && volume_absorption(si, sigma_a);
     crossings = 0;
     if (++bounces >= kRouletteDepth) {
-      const float survive = std::max(kMinSurvival, std::min(1.0f, std::sqrt(max_component(beta) / start_power)));
+      const float survive = survival(max_component(beta) / start_power);
       if ((u_roulette >= 0.0f ? u_roulette : sampler.get1(dims + kRouletteDimension)) >= survive) return;
       beta /= survive;
     }
-    ray.org = SurfaceOffset(si.p, si.ng, triangle_corners(scene.triangles, si.prim)).origin(b);
-    ray.dir = b;
-    ray.tnear = 0.0f;
-    ray.tfar = kInfinity;
+    ray = leaving_ray(scene, si, b);
   }
+}
+
+// Photons traced by one task: each chunk keeps its own list.
+inline constexpr std::size_t kPhotonChunk = 4096;
+
+// Photons 0..count-1 in parallel on `runner`, in fixed chunks of kPhotonChunk:
+// trace(i, out, rays) appends what photon i leaves to chunk list `out` (cleared first, its
+// memory kept for the next call) and counts its rays. The lists, read in chunk order, hold
+// the photons in an order no thread schedule changes. Returns the rays traced.
+template <class Stored, class Trace>
+std::uint64_t trace_photons_in_chunks(TileRunner& runner, std::size_t count, std::vector<std::vector<Stored>>& chunks,
+                                      Trace&& trace) {
+  chunks.resize((count + kPhotonChunk - 1) / kPhotonChunk);
+  std::atomic<std::uint64_t> total{0};
+  runner.run_ranges(chunks.size(), 1, [&](std::size_t begin, std::size_t end) {
+    std::uint64_t rays = 0;
+    for (std::size_t c = begin; c < end; ++c) {
+      chunks[c].clear();
+      const std::size_t last = std::min(count, (c + 1) * kPhotonChunk);
+      for (std::size_t i = c * kPhotonChunk; i < last; ++i) trace(i, chunks[c], rays);
+    }
+    total.fetch_add(rays, std::memory_order_relaxed);
+  });
+  return total.load();
 }
 
 }  // namespace lancer

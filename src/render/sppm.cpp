@@ -8,7 +8,7 @@
 #include "accel/ray_offset.h"
 #include "render/bsdf.h"
 #include "render/coverage.h"
-#include "render/light_sampling.h"
+#include "render/path_rules.h"
 #include "render/photon_walk.h"
 #include "render/shading_inputs.h"
 #include "render/shadow_ray.h"
@@ -18,44 +18,12 @@ namespace lancer {
 
 namespace {
 
-// As the path tracer (path.cpp): roulette from the fourth bounce on, survival
-// min(1, sqrt(max throughput component)), at least 5 %.
-constexpr int kRouletteDepth = 3;
-constexpr float kMinSurvival = 0.05f;
-
-// A camera path's bounce: the path tracer's layout (path.cpp), so that its first bounce
-// draws the same kind of value from the same dimensions.
-constexpr std::uint32_t kLightPickDimension = 0;
-constexpr std::uint32_t kLightPointDimensions = 1;   // and 2
-constexpr std::uint32_t kEnvironmentDimensions = 3;  // and 4
-constexpr std::uint32_t kSplitDimension = 5;
-constexpr std::uint32_t kBsdfDimensions = 6;  // and 7
-constexpr std::uint32_t kRouletteDimension = 8;
-constexpr std::uint32_t kBounceDimensions = 9;
-constexpr std::uint32_t kLightDimensions = 3;
-
 // Photon streams are told apart from pixel streams by a y no image has.
 constexpr std::uint32_t kPhotonStreamY = 0xFFFFFFFFu;
 
-float power_heuristic(float a, float b) {
-  if (!(a > 0.0f)) return 0.0f;
-  if (std::isinf(a)) return 1.0f;
-  const float a2 = a * a, b2 = b * b;
-  return std::isfinite(b2) ? a2 / (a2 + b2) : 0.0f;
-}
-
-float max_component(const glm::vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
-bool is_black(const glm::vec3& v) { return v.x <= 0.0f && v.y <= 0.0f && v.z <= 0.0f; }
-bool is_finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-
-Ray spawn(const Scene& scene, const ShadingInputs& si, const glm::vec3& dir) {
-  Ray r;
-  r.org = SurfaceOffset(si.p, si.ng, triangle_corners(scene.triangles, si.prim)).origin(dir);
-  r.dir = dir;
-  return r;
-}
-
 }  // namespace
+
+using namespace path_rules;
 
 SppmIntegrator::SppmIntegrator(const Scene& scene, const Accelerator& accel, const AreaLights& area_lights,
                                const LightEmission& emission, const Environment* environment, int max_depth,
@@ -97,7 +65,7 @@ SppmIntegrator::CameraPath SppmIntegrator::camera_path(const Ray& camera_ray, co
     if (in_volume) beta *= glm::exp(-sigma_a * segment);
     const ShadingInputs si = evaluate_shading(scene_, ray, hit);
     const std::uint32_t dims = sampler.dimension();
-    sampler.skip(kBounceDimensions + kLightDimensions * (light_samples_ - 1));
+    sampler.skip(bounce_dimensions(light_samples_));
 
     float u_roulette = -1.0f;
     if (si.alpha < 1.0f && crossings < kMaxCrossings) {  // coverage: as path.cpp
@@ -146,35 +114,12 @@ SppmIntegrator::CameraPath SppmIntegrator::camera_path(const Ray& camera_ray, co
       // the non-delta lobes, in full at a visible point (its BSDF is not sampled; the
       // photons bring only light that has bounced).
       const SurfaceOffset leave(si.p, si.ng, triangle_corners(scene_.triangles, hit.prim));
-      auto add_light = [&](const ShadowAim& aim, const glm::vec3& contribution) {
-        const Ray shadow = shadow_ray(aim, shadow_origin(leave, aim));
-        L += contribution * shadow_visibility(scene_, accel_, shadow, has_coverage_, rays);
-      };
-      for (int k = 0; k < light_samples_ && !area_lights_.empty(); ++k) {
-        const std::uint32_t at = k == 0 ? dims : dims + kBounceDimensions + kLightDimensions * (k - 1);
-        const LightSample ls = sample_area_light(scene_, area_lights_, si.p, sampler.get1(at + kLightPickDimension),
-                                                 sampler.get2(at + kLightPointDimensions));
-        if (!ls.valid) continue;
-        const BsdfEval e = sc.evaluate(ls.wi);
-        if (is_black(e.f)) continue;
-        const float light_pdf = light_samples_ * ls.pdf_solid_angle();
-        const float w = visible_point ? 1.0f : power_heuristic(light_pdf, e.pdf);
-        add_light(aim_at_area_light(ls.point.point, ls.point.normal), beta * e.f * ls.radiance * (w / light_pdf));
-      }
-      if (environment_) {
-        const EnvSample es = environment_->sample(sampler.get2(dims + kEnvironmentDimensions));
-        const BsdfEval e = es.pdf > 0.0f ? sc.evaluate(es.dir) : BsdfEval{};
-        if (!is_black(e.f) && !is_black(es.radiance)) {
-          const float w = visible_point ? 1.0f : power_heuristic(es.pdf, e.pdf);
-          add_light(aim_along(es.dir), beta * e.f * es.radiance * (w / es.pdf));
-        }
-      }
-      for (const PunctualLight& light : scene_.lights) {
-        const PunctualIncidence in = illuminate(light, si.p);
-        if (is_black(in.irradiance)) continue;
-        const glm::vec3 f = sc.evaluate(in.wi).f;
-        if (!is_black(f)) add_light(aim_at_punctual(light, in.wi), beta * f * in.irradiance);
-      }
+      next_event_estimation(scene_, area_lights_, environment_, light_samples_, si.p, sampler, dims, beta,
+                            !visible_point, [&](const glm::vec3& wi) { return sc.evaluate(wi); },
+                            [&](const ShadowAim& aim, const glm::vec3& contribution) {
+                              const Ray shadow = shadow_ray(aim, shadow_origin(leave, aim));
+                              L += contribution * shadow_visibility(scene_, accel_, shadow, has_coverage_, rays);
+                            });
     }
 
     const float u_split = sc.bsdf.reads_split() ? sampler.get1(dims + kSplitDimension) : 0.0f;
@@ -208,11 +153,11 @@ SppmIntegrator::CameraPath SppmIntegrator::camera_path(const Ray& camera_ray, co
     travelled = 0.0f;
     crossings = 0;
     if (++bounces >= kRouletteDepth) {
-      const float survive = std::max(kMinSurvival, std::min(1.0f, std::sqrt(max_component(beta))));
+      const float survive = survival(max_component(beta));
       if ((u_roulette >= 0.0f ? u_roulette : sampler.get1(dims + kRouletteDimension)) >= survive) break;
       beta /= survive;
     }
-    ray = spawn(scene_, si, bs->wi);
+    ray = leaving_ray(scene_, si, bs->wi);
     ++rays;
     hit = accel_.intersect(ray);
   }

@@ -12,6 +12,7 @@
 #include "render/light_emission.h"
 #include "render/lights.h"
 #include "render/pixel_filter.h"
+#include "render/photon_walk.h"
 #include "render/primary_block.h"
 #include "render/sppm.h"
 #include "render/tile_scheduler.h"
@@ -24,8 +25,6 @@ namespace {
 
 // Hachisuka & Jensen's alpha: the fraction of new photons a visible point keeps.
 constexpr double kAlpha = 2.0 / 3.0;
-// Photons traced by one task: each chunk keeps its own list, joined in chunk order.
-constexpr std::size_t kPhotonChunk = 4096;
 constexpr double kPi = 3.14159265358979323846;
 
 // What a pixel keeps from iteration to iteration.
@@ -81,8 +80,7 @@ ImageRGB render_sppm(const Scene& scene, const Accelerator& accel, const Pinhole
   // Held for the whole render and reused by every iteration: memory stays flat.
   std::vector<PixelStats> pixel_stats(pixels);
   std::vector<SppmIntegrator::VisiblePoint> visible(pixels);
-  const std::size_t chunks = (photon_count + kPhotonChunk - 1) / kPhotonChunk;
-  std::vector<std::vector<Photon>> chunk_photons(chunks);
+  std::vector<std::vector<Photon>> chunk_photons;
   std::vector<Photon> photons;
   PhotonGrid grid;
   tbb::enumerable_thread_specific<PrimaryBlock> primary_blocks;
@@ -139,17 +137,12 @@ ImageRGB render_sppm(const Scene& scene, const Accelerator& accel, const Pinhole
 
     // 2. Photons, chunk by chunk, joined in chunk order.
     const auto first_photon = static_cast<std::uint64_t>(iteration) * static_cast<std::uint64_t>(photons_per_iteration);
-    runner.run_ranges(chunks, 1, [&](std::size_t begin, std::size_t end) {
-      std::uint64_t rays = 0;
-      for (std::size_t c = begin; c < end; ++c) {
-        std::vector<Photon>& out = chunk_photons[c];
-        out.clear();
-        const std::size_t last = std::min(photon_count, (c + 1) * kPhotonChunk);
-        for (std::size_t i = c * kPhotonChunk; i < last; ++i)
-          sppm.trace_photon(first_photon + i, settings.seed, out, rays);
-      }
-      total_rays.fetch_add(rays, std::memory_order_relaxed);
-    });
+    total_rays.fetch_add(
+        trace_photons_in_chunks(runner, photon_count, chunk_photons,
+                                [&](std::size_t i, std::vector<Photon>& out, std::uint64_t& rays) {
+                                  sppm.trace_photon(first_photon + i, settings.seed, out, rays);
+                                }),
+        std::memory_order_relaxed);
     photons.clear();
     for (const std::vector<Photon>& c : chunk_photons) photons.insert(photons.end(), c.begin(), c.end());
 

@@ -1,5 +1,5 @@
 // The BSDF of a shading point, as every integrator that scatters by the glTF material builds
-// it (the path tracer, the photon mapper's camera and photon paths).
+// and folds it (the path tracer, the photon mappers' camera and photon paths).
 #pragma once
 
 #include <cmath>
@@ -10,6 +10,7 @@
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
+#include "accel/ray_offset.h"
 #include "render/bsdf.h"
 #include "render/shading_inputs.h"
 
@@ -26,6 +27,15 @@ inline Bsdf surface_bsdf(const ShadingInputs& si) {
   inputs.sheen_color = si.sheen_color;
   inputs.sheen_roughness = si.sheen_roughness;
   return Bsdf(inputs, ShadingFrame::from_orthonormal(si.ns, si.tangent), si.front_face);
+}
+
+// A ray leaving the shading point along unit `dir`, its origin pushed off the triangle just
+// far enough that it cannot hit it again, for this exact direction (ray_offset.h).
+inline Ray leaving_ray(const Scene& scene, const ShadingInputs& si, const glm::vec3& dir) {
+  Ray r;
+  r.org = SurfaceOffset(si.p, si.ng, triangle_corners(scene.triangles, si.prim)).origin(dir);
+  r.dir = dir;
+  return r;
 }
 
 // Beer-Lambert absorption inside a KHR_materials_volume boundary: sigma_a =
@@ -56,8 +66,9 @@ struct SurfaceScattering {
     return evaluate_folded<BsdfEval>(si, wi, [&](const glm::vec3& w) { return bsdf.evaluate(out, w); });
   }
   // A sampled direction, folded, with the density multiple importance sampling sees: the
-  // drawn density plus that of the direction's other preimage near a leaning normal
-  // (path.cpp does the same inline). nullopt: absorbed, or folded out of reach.
+  // drawn density plus that of the direction's other preimage near a leaning normal (the
+  // mirror has Jacobian 1, so the weight f / pdf stays). nullopt: absorbed, or folded out of
+  // reach.
   std::optional<BsdfSample> sample(float u_split, glm::vec2 u) const {
     std::optional<BsdfSample> bs = bsdf.sample(out, u_split, u);
     if (!bs) return bs;

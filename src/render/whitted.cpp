@@ -12,6 +12,7 @@
 #include "render/fresnel.h"
 #include "render/light_sampling.h"
 #include "render/shadow_ray.h"
+#include "render/surface_bsdf.h"
 
 namespace lancer {
 
@@ -31,13 +32,6 @@ SurfaceOffset leaving(const Scene& scene, const ShadingInputs& si) {
   return SurfaceOffset(si.p, si.ng, triangle_corners(scene.triangles, si.prim));
 }
 
-// A secondary ray from the shading point along unit `dir`.
-Ray spawn_ray(const Scene& scene, const ShadingInputs& si, const glm::vec3& dir) {
-  Ray r;
-  r.org = leaving(scene, si).origin(dir);
-  r.dir = dir;
-  return r;
-}
 
 // The coat's normal: its own (normal-mapped) one, else the shading normal.
 glm::vec3 coat_normal(const ShadingInputs& si) {
@@ -120,7 +114,7 @@ glm::vec3 WhittedIntegrator::shade_surface(const ShadingInputs& si, const Ray& r
         ClearcoatLobe(si.clearcoat, si.clearcoat_roughness).layer_weight(glm::vec3(0.0f, 0.0f, std::abs(glm::dot(nc, -ray.dir))));
     glm::vec3 dir = glm::normalize(glm::reflect(ray.dir, nc));
     if (depth < max_depth_ && fold_direction(si, dir))
-      L += coat * trace(spawn_ray(scene_, si, dir), depth + 1, sampler, rays);
+      L += coat * trace(leaving_ray(scene_, si, dir), depth + 1, sampler, rays);
     under_coat = 1.0f - coat;
   }
   return under_coat > 0.0f ? L + under_coat * shade_base(si, ray, depth, sampler, rays) : L;
@@ -156,7 +150,7 @@ glm::vec3 WhittedIntegrator::mirror(const ShadingInputs& si, const Ray& ray, int
   const float cos_i = glm::dot(wo, si.ns);  // > 0: evaluate_shading keeps ns facing the viewer
   glm::vec3 dir = glm::normalize(glm::reflect(ray.dir, si.ns));
   if (!fold_direction(si, dir)) return glm::vec3(0.0f);
-  return schlick_fresnel(si.base_color, cos_i) * trace(spawn_ray(scene_, si, dir), depth + 1, sampler, rays);
+  return schlick_fresnel(si.base_color, cos_i) * trace(leaving_ray(scene_, si, dir), depth + 1, sampler, rays);
 }
 
 glm::vec3 WhittedIntegrator::dielectric(const ShadingInputs& si, const Ray& ray, int depth, SobolSampler& sampler,
@@ -176,7 +170,7 @@ glm::vec3 WhittedIntegrator::dielectric(const ShadingInputs& si, const Ray& ray,
   glm::vec3 L(0.0f);
   // Each direction folded where the two normals disagree on its side (shading_inputs.h).
   auto follow = [&](glm::vec3 dir) {
-    return fold_direction(si, dir) ? trace(spawn_ray(scene_, si, dir), depth + 1, sampler, rays) : glm::vec3(0.0f);
+    return fold_direction(si, dir) ? trace(leaving_ray(scene_, si, dir), depth + 1, sampler, rays) : glm::vec3(0.0f);
   };
   L += F * follow(glm::normalize(glm::reflect(ray.dir, n)));
   if (F < 1.0f && thin) {

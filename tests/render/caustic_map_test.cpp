@@ -29,11 +29,6 @@
 namespace lancer {
 namespace {
 
-bool bitwise_equal(const ImageRGB& a, const ImageRGB& b) {
-  return a.width == b.width && a.height == b.height && a.rgb.size() == b.rgb.size() &&
-         std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
-}
-
 RenderSettings photon_settings(int size, int spp) {
   RenderSettings s;
   s.width = s.height = size;
@@ -172,7 +167,7 @@ TEST(CausticMap, WithoutDeltaSurfacesTheImageIsThePathTracers) {
   const ImageRGB photon = render_image(scene, accel, camera, s, stats);
   s.integrator = IntegratorKind::Path;
   const ImageRGB path = render_image(scene, accel, camera, s, stats);
-  EXPECT_TRUE(bitwise_equal(photon, path));
+  EXPECT_TRUE(test::bitwise_equal(photon, path));
 }
 
 // ---- Determinism ---------------------------------------------------------------------------
@@ -182,25 +177,15 @@ TEST(CausticMap, BitIdenticalAcrossThreadsTilesAndModes) {
   const KdTree accel(scene.triangles);
   constexpr int kSize = 24;
   const PinholeCamera camera = PinholeCamera::from_desc(scene.cameras.at(0), kSize, kSize);
-  auto render = [&](int threads, int tile, TraceMode mode) {
-    RenderSettings s = photon_settings(kSize, 2);
-    s.photons = 30000;  // a partial last chunk of photons too
-    s.threads = threads;
-    s.tile_size = tile;
-    s.mode = mode;
-    RenderStats stats;
-    return render_image(scene, accel, camera, s, stats);
-  };
-  const ImageRGB one = render(1, 16, TraceMode::Packet);
-  EXPECT_TRUE(bitwise_equal(one, render(2, 16, TraceMode::Packet)));
-  EXPECT_TRUE(bitwise_equal(one, render(3, 5, TraceMode::Packet)));
-  EXPECT_TRUE(bitwise_equal(one, render(2, 16, TraceMode::Single)));
+  RenderSettings base = photon_settings(kSize, 2);
+  base.photons = 30000;  // a partial last chunk of photons too
+  const ImageRGB one = test::expect_bit_identical_across_threads_tiles_and_modes(scene, accel, camera, base);
   // And the map is not empty here: the image differs from the path tracer's.
   RenderSettings s = photon_settings(kSize, 2);
   s.integrator = IntegratorKind::Path;
   s.threads = 1;
   RenderStats stats;
-  EXPECT_FALSE(bitwise_equal(one, render_image(scene, accel, camera, s, stats)));
+  EXPECT_FALSE(test::bitwise_equal(one, render_image(scene, accel, camera, s, stats)));
 }
 
 // The map itself: photons land only after a delta bounce, on non-delta surfaces, within the

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <cstdint>
 #include <numbers>
 #include <optional>
@@ -14,6 +15,7 @@
 
 #include "render/bsdf.h"
 #include "render/image.h"
+#include "render/renderer.h"
 #include "render_test_scenes.h"
 #include "scene/scene.h"
 
@@ -101,6 +103,30 @@ SeedStats over_seeds(int seeds, Render render) {
     out.stderr_[i] = std::sqrt(var / seeds);
   }
   return out;
+}
+
+inline bool bitwise_equal(const ImageRGB& a, const ImageRGB& b) {
+  return a.width == b.width && a.height == b.height && a.rgb.size() == b.rgb.size() &&
+         std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
+}
+
+// The render of `settings` (threads 1, tile 16, packets) and the same with 2 and 3 threads,
+// odd tiles and single rays, all bit for bit: photons are traced in fixed chunks and
+// gathered in a fixed order. Returns the first image for the caller's own checks.
+inline ImageRGB expect_bit_identical_across_threads_tiles_and_modes(const Scene& scene, const Accelerator& accel,
+                                                                    const PinholeCamera& camera, RenderSettings s) {
+  auto render = [&](int threads, int tile, TraceMode mode) {
+    s.threads = threads;
+    s.tile_size = tile;
+    s.mode = mode;
+    RenderStats stats;
+    return render_image(scene, accel, camera, s, stats);
+  };
+  const ImageRGB one = render(1, 16, TraceMode::Packet);
+  EXPECT_TRUE(bitwise_equal(one, render(2, 16, TraceMode::Packet)));
+  EXPECT_TRUE(bitwise_equal(one, render(3, 5, TraceMode::Packet)));
+  EXPECT_TRUE(bitwise_equal(one, render(2, 16, TraceMode::Single)));
+  return one;
 }
 
 }  // namespace lancer::test

@@ -34,11 +34,6 @@ using test::over_seeds;
 using test::PaneCaustic;
 using test::SeedStats;
 
-bool bitwise_equal(const ImageRGB& a, const ImageRGB& b) {
-  return a.width == b.width && a.height == b.height && a.rgb.size() == b.rgb.size() &&
-         std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
-}
-
 RenderSettings sppm_settings(int size, int iterations) {
   RenderSettings s;
   s.width = s.height = size;
@@ -232,19 +227,9 @@ TEST(Sppm, BitIdenticalAcrossThreadsTilesAndModes) {
   const KdTree accel(scene.triangles);
   constexpr int kSize = 24;
   const PinholeCamera camera = PinholeCamera::from_desc(scene.cameras.at(0), kSize, kSize);
-  auto render = [&](int threads, int tile, TraceMode mode) {
-    RenderSettings s = sppm_settings(kSize, 3);
-    s.photons = 3000;  // a partial last chunk of photons too
-    s.threads = threads;
-    s.tile_size = tile;
-    s.mode = mode;
-    RenderStats stats;
-    return render_image(scene, accel, camera, s, stats);
-  };
-  const ImageRGB one = render(1, 16, TraceMode::Packet);
-  EXPECT_TRUE(bitwise_equal(one, render(2, 16, TraceMode::Packet)));
-  EXPECT_TRUE(bitwise_equal(one, render(2, 5, TraceMode::Packet)));
-  EXPECT_TRUE(bitwise_equal(one, render(2, 16, TraceMode::Single)));
+  RenderSettings base = sppm_settings(kSize, 3);
+  base.photons = 3000;  // a partial last chunk of photons too
+  const ImageRGB one = test::expect_bit_identical_across_threads_tiles_and_modes(scene, accel, camera, base);
   double sum = 0.0;
   for (float v : one.rgb) {
     ASSERT_TRUE(std::isfinite(v));

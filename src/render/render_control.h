@@ -24,7 +24,8 @@ struct RenderControl {
   double checkpoint_s = 0.0;
   std::function<void(const ImageRGB& image, int passes_done)> on_checkpoint;
   // Non-null: the render continues from *state (empty: starts afresh), which must come from a
-  // render of the same scene with the same settings but perhaps a smaller spp, and leaves its
+  // render of the same scene with the same settings but perhaps a smaller spp (one process's
+  // or a distributed one's: check_render_state), and leaves its
   // sums and counts there, so they can be saved and resumed (--resume); on_checkpoint may read
   // it. Not for IntegratorKind::Sppm, whose state is another (render_image throws).
   RenderState* state = nullptr;

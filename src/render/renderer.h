@@ -35,6 +35,16 @@ using ProgressCallback = std::function<void(std::size_t tiles_done, std::size_t 
 // (render/sppm_render.h): settings.spp iterations of progressive photon mapping.
 // IntegratorKind::Photon first builds a caustic photon map (render/caustic_map.h) and then
 // runs the path tracer with it.
+// Throws std::invalid_argument ("render settings: ...") unless `settings` can render `scene`
+// through `camera`: render_image's first step, for other drivers of SampleRenderer too.
+void check_render_settings(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings);
+
+// Throws std::invalid_argument ("render state: ...") unless a render with `settings` can
+// continue from `state`: the image's size, every pixel with at least state.passes and at
+// most settings.spp samples. (One process stopped mid-pass leaves pixels at `passes` or one
+// more; a distributed render stopped early leaves its tiles further apart.)
+void check_render_state(const RenderState& state, const RenderSettings& settings);
+
 ImageRGB render_image(const Scene& scene, const Accelerator& accel, const PinholeCamera& camera,
                       const RenderSettings& settings, RenderStats& stats, const ProgressCallback& progress = {},
                       const RenderControl& control = {});

@@ -32,6 +32,8 @@ void for_each_tile(const std::vector<Tile>& tiles, int threads, const std::funct
 class TileRunner {
  public:
   explicit TileRunner(int threads);
+  // The threads it runs on (what `threads` asked for, or the hardware's).
+  int concurrency() { return arena_.max_concurrency(); }
   void run(const std::vector<Tile>& tiles, const std::function<void(const Tile&)>& render_tile,
            const std::function<void(std::size_t, std::size_t)>& on_done, std::size_t total);
   // Other work in the same arena: body(begin, end) over [0, n) in ranges of about `grain`

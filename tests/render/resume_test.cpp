@@ -1,11 +1,13 @@
 // Resuming a render (RenderControl::state): a render continued from the state a checkpoint
-// or a stop left, even one in the middle of a pass, ends with the uninterrupted render's
-// image bit for bit, for any thread count; and that state survives its EXR file exactly
+// or a stop left, even one in the middle of a pass or with pixels passes apart (as a
+// distributed render leaves them), ends with the uninterrupted render's image bit for bit,
+// for any thread count; and that state survives its EXR file exactly
 // (render/checkpoint_file.h), while a plain, damaged or truncated file is refused.
 #include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
+#include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -20,6 +22,7 @@
 #include "render/checkpoint_file.h"
 #include "render/image_io.h"
 #include "render/renderer.h"
+#include "render/tile_scheduler.h"
 #include "scene/load_scene.h"
 #include "test_paths.h"
 
@@ -174,6 +177,62 @@ TEST(Resume, EveryIntegratorOfTheCommonLoop) {
   }
 }
 
+// A distributed render stopped early leaves its tiles passes apart (dist/pass_scheduler.h):
+// a state whose pixels have any counts within [passes, spp], pieced together here from
+// the checkpoints of one render, is accepted and resumed to the uninterrupted image, each
+// pixel adding only the samples it lacks.
+TEST(Resume, PixelsAtAnyCountsBetweenPassesAndSpp) {
+  std::vector<RenderState> after;  // [k]: the state after k passes
+  RenderState full;
+  RenderControl control;
+  control.state = &full;
+  control.checkpoint_s = 1e-9;
+  control.on_checkpoint = [&](const ImageRGB&, int) { after.push_back(full); };
+  RenderStats stats;
+  const ImageRGB straight = render(settings(6, 2), stats, {}, control);
+  after.insert(after.begin(), RenderState{});
+  after.front().reset(24, 20);
+  after.push_back(full);
+  ASSERT_EQ(after.size(), 7u);
+
+  // Per 8x8 tile of the 24x20 image: 1 to 6 samples; some pixels a sample or two ahead.
+  RenderState pieced;
+  pieced.reset(24, 20);
+  for (int y = 0; y < 20; ++y)
+    for (int x = 0; x < 24; ++x) {
+      const std::size_t p = static_cast<std::size_t>(y) * 24 + static_cast<std::size_t>(x);
+      int k = 1 + (x / 8 + 3 * (y / 8)) % 6;
+      if (x % 5 == 0 && y % 3 == 0) k = std::min(6, k + 1 + (x + y) % 2);
+      pieced.sum[p] = after[static_cast<std::size_t>(k)].sum[p];
+      pieced.count[p] = after[static_cast<std::size_t>(k)].count[p];
+      ASSERT_EQ(pieced.count[p], static_cast<std::uint32_t>(k));
+    }
+  // Camera rays go by 8x8 block (here a tile): a block takes pass s when a pixel lacks sample s.
+  std::uint64_t traced = 0;
+  for (const Tile& tile : make_tiles(24, 20, 8)) {
+    std::uint32_t least = 6;
+    for (int y = tile.y0; y < tile.y1; ++y)
+      for (int x = tile.x0; x < tile.x1; ++x)
+        least = std::min(least, pieced.count[static_cast<std::size_t>(y) * 24 + static_cast<std::size_t>(x)]);
+    traced += (6 - least) * static_cast<std::uint64_t>((tile.x1 - tile.x0) * (tile.y1 - tile.y0));
+  }
+  pieced.passes = 1;
+  EXPECT_NO_THROW(check_render_state(pieced, settings(6, 1)));
+  EXPECT_NO_THROW(check_render_state(pieced, settings(9, 1))) << "resumed to more samples";
+  EXPECT_THROW(check_render_state(pieced, settings(5, 1)), std::invalid_argument) << "pixels beyond spp";
+  RenderState later = pieced;
+  later.passes = 2;
+  EXPECT_THROW(check_render_state(later, settings(6, 1)), std::invalid_argument) << "pixels short of passes";
+  for (const int threads : {1, 3}) {
+    RenderState resumed = pieced;
+    RenderStats st;
+    EXPECT_TRUE(same_bits(straight, render_from(resumed, settings(6, threads), st))) << threads << " threads";
+    EXPECT_TRUE(same_state(resumed, full));
+    EXPECT_EQ(st.primary_rays, traced) << "only the blocks that lack a sample";
+    EXPECT_EQ(st.min_spp, 6u);
+  }
+}
+
 TEST(Resume, RefusesAStateItCouldNotHaveLeft) {
   RenderState state = stopped_after(settings(4, 1), kTiles + 2);
   RenderStats st;
@@ -183,9 +242,14 @@ TEST(Resume, RefusesAStateItCouldNotHaveLeft) {
     EXPECT_THROW(render_from(other_size, settings(4, 1), st), std::invalid_argument);
   }
   {
-    RenderState too_far = state;
-    too_far.count[0] = 3;  // two passes ahead of the others
-    EXPECT_THROW(render_from(too_far, settings(4, 1), st), std::invalid_argument);
+    RenderState behind = state;
+    behind.count[0] = 0;  // short of the pass it says every pixel had
+    EXPECT_THROW(render_from(behind, settings(4, 1), st), std::invalid_argument);
+  }
+  {
+    RenderState beyond = state;
+    beyond.count[0] = 5;  // more than spp
+    EXPECT_THROW(render_from(beyond, settings(4, 1), st), std::invalid_argument);
   }
   {
     RenderState more_than_asked = state;  // 1 pass, some pixels at 2

@@ -30,3 +30,17 @@ if(LANCER_BUILD_BENCH)
 endif()
 # Embree is optional: a benchmark baseline and a second test oracle, never linked into lancer.
 find_package(embree 3 QUIET)
+# Open MPI is optional: with it one render can be spread over processes and machines
+# (mpirun -np N lancer render ...); without it lancer renders in one process and refuses to
+# run as several copies under mpirun.
+option(LANCER_MPI "Build the distributed render with Open MPI when it is installed" ON)
+set(LANCER_WITH_MPI OFF)
+if(LANCER_MPI)
+  set(MPI_CXX_SKIP_MPICXX ON)  # the C API only: not the deprecated C++ bindings (libmpi_cxx)
+  find_package(MPI COMPONENTS CXX QUIET)
+  if(MPI_CXX_FOUND)
+    set(LANCER_WITH_MPI ON)
+  else()
+    message(STATUS "Open MPI not found (libopenmpi-dev): lancer renders in one process only")
+  endif()
+endif()

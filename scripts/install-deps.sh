@@ -7,6 +7,7 @@ packages=(
   libglm-dev libtbb-dev libtinygltf-dev nlohmann-json3-dev libstb-dev libopenexr-dev
   libtinyobjloader-dev libcli11-dev libgtest-dev libbenchmark-dev libembree-dev libdraco-dev
   libmeshoptimizer-dev libwebp-dev  # EXT_meshopt_compression, EXT_texture_webp
+  libopenmpi-dev openmpi-bin  # optional at build time: mpirun -np N lancer render (one render, many processes)
   clang-14 libclang-rt-14-dev  # `make fuzz`: libFuzzer and the sanitizer runtimes for clang
 )
 missing=()

@@ -1,5 +1,7 @@
 #include "app/cli.h"
 
+#include "dist/launch.h"
+
 
 #include <algorithm>
 #include <ostream>
@@ -287,8 +289,16 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
     out << app.help("", CLI::AppFormatMode::All);
     return 0;
   } catch (const CLI::ParseError& e) {
-    err << "lancer: " << e.what() << "\n";
-    err << "Run 'lancer --help' or 'lancer render --help' for the options.\n";
+    if (mpirun_rank() == 0) {  // under mpirun every rank parses the same line: one says so
+      err << "lancer: " << e.what() << "\n";
+      err << "Run 'lancer --help' or 'lancer render --help' for the options.\n";
+    }
+    return 2;
+  }
+  if (mpirun_world_size() > 1 && !app.get_subcommand("render")->parsed()) {
+    if (mpirun_rank() == 0)
+      err << "lancer: error: under mpirun only 'lancer render' runs as one job over several ranks; run the others "
+             "without mpirun\n";
     return 2;
   }
 

@@ -2,6 +2,8 @@
 
 #include <unistd.h>
 
+#include <array>
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -17,11 +19,14 @@
 #include "app/interrupt.h"
 #include "app/progress_reporter.h"
 #include "app/resume.h"
+#include "dist/distributed_render.h"
+#include "dist/launch.h"
 #include "render/camera.h"
 #include "render/checkpoint_file.h"
 #include "render/environment.h"
 #include "render/image_io.h"
 #include "render/renderer.h"
+#include "render/sample_renderer.h"
 #include "scene/load_scene.h"
 #include "scene/scene_error.h"
 #include "simd/out_of_memory.h"
@@ -86,7 +91,31 @@ Isa isa_from(const std::string& name) {
   return *isa;
 }
 
+namespace {
+
+std::string host_name() {
+  std::array<char, 256> name{};
+  if (gethostname(name.data(), name.size() - 1) != 0) return "?";
+  return name.data();
+}
+
+}  // namespace
+
 int run_render(const RenderOptions& options, std::ostream& out, std::ostream& err) {
+  // Under mpirun: one of several ranks of one render (dist/distributed_render.h). Rank 0
+  // does what a single process does; the others load the scene, build the tree and render
+  // what rank 0 hands them, and write nothing.
+  std::unique_ptr<Channel> channel;
+  try {
+    channel = open_mpi_channel();
+  } catch (const std::exception& e) {
+    err << "lancer: error: " << e.what() << "\n";
+    return 1;
+  }
+  const int rank = channel ? channel->rank() : 0;
+  bool distributed_started = false;  // past every rank's setup
+  RenderSettings worker_settings;    // for a worker whose setup failed
+  std::string failure;
   try {
     RenderOptions opt = options;
     if (const auto ignored = integrator_ignores(opt.settings.integrator, opt.given))
@@ -105,7 +134,7 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
 
     // Read first, so a wrong file is refused before the scene loads.
     std::optional<Checkpoint> resumed;
-    if (!opt.resume.empty()) {
+    if (!opt.resume.empty() && rank == 0) {  // (the workers keep no state)
       if (opt.settings.integrator == IntegratorKind::Sppm)
         throw std::invalid_argument("--resume: the sppm integrator cannot resume a render (its photon statistics are "
                                     "not saved); render it again, with --time or a larger --spp");
@@ -159,13 +188,14 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
     CheckpointFacts facts;
     if (resumed) {
       state = take_resumed_state(std::move(*resumed), opt, s, scene, camera, kMaxSpp, facts);
-    } else if (keeps_state) {
+    } else if (keeps_state && rank == 0) {
       facts = render_facts(opt, s, scene, camera);
     }
-    for (const auto& o : opt.outputs) {
-      const std::filesystem::path parent = std::filesystem::path(o).parent_path();
-      if (!parent.empty()) std::filesystem::create_directories(parent);
-    }
+    if (rank == 0)
+      for (const auto& o : opt.outputs) {
+        const std::filesystem::path parent = std::filesystem::path(o).parent_path();
+        if (!parent.empty()) std::filesystem::create_directories(parent);
+      }
     auto write_outputs = [&](const ImageRGB& image) {
       for (const auto& o : opt.outputs) {
         std::string ext = std::filesystem::path(o).extension().string();
@@ -185,19 +215,36 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
     ProgressReporter progress(err, opt.progress && isatty(STDERR_FILENO));
     const auto t_render = std::chrono::steady_clock::now();
     RenderStats stats;
-    ImageRGB image = render_image(
-        scene, *accel, camera, s, stats,
-        [&](std::size_t done, std::size_t total) {
-          if (!opt.progress) return;
-          if (opt.time_limit_s > 0.0 && !opt.spp_given) {  // progress is the time used
-            const double used = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_render).count();
-            progress.update(static_cast<std::size_t>(std::min(used, opt.time_limit_s) * 1000.0),
-                            static_cast<std::size_t>(opt.time_limit_s * 1000.0));
-          } else {
-            progress.update(done, total);
-          }
-        },
-        control);
+    auto report_progress = [&](std::size_t done, std::size_t total) {
+      if (!opt.progress) return;
+      if (opt.time_limit_s > 0.0 && !opt.spp_given) {  // progress is the time used
+        const double used = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_render).count();
+        progress.update(static_cast<std::size_t>(std::min(used, opt.time_limit_s) * 1000.0),
+                        static_cast<std::size_t>(opt.time_limit_s * 1000.0));
+      } else {
+        progress.update(done, total);
+      }
+    };
+    ImageRGB image;
+    DistributedReport report;
+    if (channel) {
+      if (s.integrator == IntegratorKind::Sppm)
+        throw std::invalid_argument("--integrator sppm renders in one process (each photon pass spans the whole "
+                                    "image); run it without mpirun");
+      worker_settings = s;
+      check_render_settings(scene, camera, s);
+      TileRunner runner(s.threads);
+      const SampleRenderer renderer(scene, *accel, camera, s, runner);
+      const WorkerReady me{true, runner.concurrency(), load_s, build_s, host_name(), ""};
+      distributed_started = true;
+      if (rank != 0) {
+        serve_distributed(*channel, &renderer, s, &runner, me);
+        return 0;
+      }
+      image = render_distributed(*channel, renderer, s, runner, me, state, stats, report, report_progress, control);
+    } else {
+      image = render_image(scene, *accel, camera, s, stats, report_progress, control);
+    }
     progress.finish();
 
     if (const std::size_t bad = count_non_finite(image); bad > 0)
@@ -219,16 +266,59 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
                   std::string(trace_mode_name(s.mode)).c_str(), scene.triangle_count(), load_s, build_s,
                   stats.seconds, static_cast<double>(stats.rays) * 1e-6, mrays, primary_mrays);
     out << line << "\n";
+    if (channel) {
+      double load_lo = 1e300, load_hi = 0.0, build_lo = 1e300, build_hi = 0.0;
+      int threads_lo = 1 << 30, threads_hi = 0;
+      for (const WorkerReady& r : report.ranks) {
+        load_lo = std::min(load_lo, r.load_s), load_hi = std::max(load_hi, r.load_s);
+        build_lo = std::min(build_lo, r.build_s), build_hi = std::max(build_hi, r.build_s);
+        threads_lo = std::min(threads_lo, r.threads), threads_hi = std::max(threads_hi, r.threads);
+      }
+      std::snprintf(line, sizeof line,
+                    "lancer: %d ranks x %d%s thread(s): each loaded the scene in %.2f-%.2f s and built its tree in "
+                    "%.2f-%.2f s; %zu work units of up to %d pass(es)",
+                    channel->size(), threads_lo,
+                    threads_hi != threads_lo ? ("-" + std::to_string(threads_hi)).c_str() : "", load_lo, load_hi,
+                    build_lo, build_hi, report.units, report.largest_unit);
+      out << line << "\n";
+      for (const std::string& w : report.warnings) err << "lancer: warning: " << w << "\n";
+    }
     if (stats.stopped)
       out << "lancer: " << (interrupt.exit_code() != 0 ? "interrupted" : "time limit reached") << " after "
           << stats.passes << " full pass(es); pixels have " << stats.min_spp << " to " << stats.max_spp
           << " samples\n";
     for (const auto& o : opt.outputs) out << "wrote " << o << "\n";
     return interrupt.exit_code();
+  } catch (const WorkerSetupFailed& e) {  // every rank has stopped in order
+    err << "lancer: error: " << e.what() << "\n";
+    return 1;
   } catch (const std::bad_alloc& e) {
-    err << "lancer: error: " << out_of_memory_message(e) << "\n";
+    failure = out_of_memory_message(e);
+  } catch (const std::exception& e) {
+    failure = e.what();
+  }
+  if (!channel) {
+    err << "lancer: error: " << failure << "\n";
+    return 1;
+  }
+  // A distributed render that failed: before the render starts, every rank learns it and
+  // stops in order (rank 0 reports, the workers tell rank 0); in the middle of it, the
+  // failing rank ends the job (rank 0 saves what it has on the runtime's SIGTERM).
+  if (rank == 0 || distributed_started)
+    err << "lancer: " << (rank == 0 ? std::string() : "rank " + std::to_string(rank) + " on " + host_name() + ": ")
+        << "error: " << failure << "\n";
+  if (distributed_started) channel->abort(1);
+  try {
+    if (rank == 0) {
+      abandon_distributed(*channel);
+    } else {
+      WorkerReady me;
+      me.ok = false, me.host = host_name(), me.error = failure;
+      serve_distributed(*channel, nullptr, worker_settings, nullptr, me);
+    }
   } catch (const std::exception& e) {
     err << "lancer: error: " << e.what() << "\n";
+    channel->abort(1);
   }
   return 1;
 }

@@ -162,6 +162,9 @@ void add_render_command(CLI::App& app, RenderOptions& opt) {
       ->check(CLI::NonNegativeNumber);
   render->add_option("--scene", opt.gltf_scene, "Number of the glTF scene to render (default: the file's default scene)")
       ->check(CLI::NonNegativeNumber);
+  render->add_option("--frame-time", opt.frame_time,
+                     "Pose an animated glTF file as its first animation has it at this time, in seconds (default: "
+                     "each channel's first keyframe; held before the first and after the last)");
   add_vec3_option(*render, "--eye", opt.eye, "Camera position (overrides the scene camera)");
   add_vec3_option(*render, "--look-at", opt.look_at, "Point the camera looks at");
   add_vec3_option(*render, "--up", opt.up, "Camera up direction (default 0,1,0)");

@@ -142,7 +142,7 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
     }
 
     const auto t_load = std::chrono::steady_clock::now();
-    const Scene scene = load_scene(opt.scene, opt.gltf_scene);
+    const Scene scene = load_scene(opt.scene, opt.gltf_scene, opt.frame_time);
     print_load_warnings(scene, err);
     const bool lit_by_env = !opt.env_file.empty() || !opt.env_color.empty();
     if (!has_light(scene) && !lit_by_env &&

@@ -28,6 +28,11 @@ std::string exact(float v) {
   return text;
 }
 std::string exact(const glm::vec3& v) { return exact(v.x) + "," + exact(v.y) + "," + exact(v.z); }
+std::string exact(double v) {
+  char text[64];
+  std::snprintf(text, sizeof text, "%a", v);
+  return text;
+}
 
 // Adds the file's bytes; a file that cannot be read adds its name and a marker instead (the
 // scene loaded, so it was there a moment ago).
@@ -49,6 +54,7 @@ std::string label(const std::string& key) {
   if (key == "lightSamples") return "--light-samples";
   if (key == "causticK") return "--caustic-k";
   if (key == "causticRadius") return "--caustic-radius";
+  if (key == "frameTime") return "--frame-time";
   return "--" + key;
 }
 
@@ -118,6 +124,7 @@ CheckpointFacts render_facts(const RenderOptions& options, const RenderSettings&
           {"filter", settings.filter == PixelFilterType::Gaussian ? "gaussian" : "box"},
           {"camera", camera_text},
           {"environment", environment},
+          {"frameTime", options.frame_time ? exact(*options.frame_time) : "none"},
           // The caustic photon map's (--integrator photon; 0: its defaults, which follow the size).
           {"photons", std::to_string(settings.photons)},
           {"causticK", std::to_string(settings.caustic_k)},

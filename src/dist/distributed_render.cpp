@@ -12,6 +12,7 @@
 #include "dist/local_worker.h"
 #include "dist/tile_queue.h"
 #include "dist/work_unit.h"
+#include "render/primary_block.h"
 
 namespace lancer {
 
@@ -19,9 +20,6 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-// Units handed to a rank before it has returned them: one in hand, the others waiting, so a
-// rank never idles while its next unit travels.
-constexpr int kUnitsInFlight = 3;
 // A unit's aim, in wall seconds on its rank: long enough that messages cost nothing beside
 // it, short enough that the last units end together (the render's tail).
 constexpr double kUnitSeconds = 0.1;
@@ -84,8 +82,15 @@ WorkerReady unpack_ready(const std::vector<std::byte>& bytes) {
   return r;
 }
 
-std::vector<Tile> distributed_tiles(const RenderSettings& settings) {
-  return make_tiles(settings.width, settings.height, std::min(settings.tile_size, kMaxDistributedTile));
+std::vector<Tile> distributed_tiles(const RenderSettings& settings, int ranks) {
+  int side = std::min(settings.tile_size, kMaxDistributedTile);
+  const auto wanted = static_cast<std::size_t>(kUnitsInFlight) * static_cast<std::size_t>(std::max(ranks, 1));
+  std::vector<Tile> tiles = make_tiles(settings.width, settings.height, side);
+  while (tiles.size() < wanted && side > kBlockSide) {
+    side = std::max(side / 2, kBlockSide);
+    tiles = make_tiles(settings.width, settings.height, side);
+  }
+  return tiles;
 }
 
 ImageRGB render_distributed(Channel& channel, const SampleRenderer& renderer, const RenderSettings& settings,
@@ -97,7 +102,7 @@ ImageRGB render_distributed(Channel& channel, const SampleRenderer& renderer, co
                                     std::chrono::duration<double>(timed ? control.time_limit_s : 0.0));
   if (state.empty()) state.reset(settings.width, settings.height);
   check_render_state(state, settings);
-  const std::vector<Tile> tiles = distributed_tiles(settings);
+  const std::vector<Tile> tiles = distributed_tiles(settings, channel.size());
   TileQueue queue(tiles, state, settings.spp);
   LocalWorker local(renderer, tiles, runner, me.threads);
 
@@ -238,7 +243,7 @@ void serve_distributed(Channel& channel, const SampleRenderer* renderer, const R
   std::vector<Tile> tiles;
   std::optional<LocalWorker> local;
   if (me.ok) {
-    tiles = distributed_tiles(settings);
+    tiles = distributed_tiles(settings, channel.size());
     local.emplace(*renderer, tiles, *runner, me.threads);
   }
   bool stop = false;

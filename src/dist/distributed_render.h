@@ -30,10 +30,14 @@ struct WorkerReady {
 std::vector<std::byte> pack(const WorkerReady& ready);
 WorkerReady unpack_ready(const std::vector<std::byte>& bytes);
 
-// Tiles of a distributed render: settings.tile_size, at most kMaxDistributedTile on a side,
-// so that a unit's samples stay a modest message (the tile size never changes the image).
+// Tiles of a distributed render over `ranks` ranks: settings.tile_size, at most
+// kMaxDistributedTile on a side so that a unit stays a modest message, and halved (down to
+// one 8x8 block) while the image has fewer tiles than the units `ranks` ranks hold at once,
+// so that every rank has work. Every rank computes the same; the tile size never changes
+// the image.
 inline constexpr int kMaxDistributedTile = 128;
-std::vector<Tile> distributed_tiles(const RenderSettings& settings);
+inline constexpr int kUnitsInFlight = 3;  // per rank: one in hand, two waiting
+std::vector<Tile> distributed_tiles(const RenderSettings& settings, int ranks = 1);
 
 // A worker could not set up (its message names the rank, the host and why); every rank has
 // been told to stop and has answered.

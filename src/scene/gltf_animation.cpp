@@ -2,8 +2,12 @@
 
 #include <tiny_gltf.h>
 
+#include <cmath>
 #include <cstddef>
+#include <limits>
 #include <vector>
+
+#include "scene/animation_sampling.h"
 
 #include "scene/gltf_accessors.h"
 #include "scene/scene_error.h"
@@ -19,8 +23,8 @@ struct NodePose {
   std::vector<double> values;
 };
 
-// The value channel `c` of animation 0 gives its node at the first keyframe.
-NodePose first_frame(const ModelRef& m, const tinygltf::Animation& a, std::size_t c) {
+// The value channel `c` of animation 0 gives its node at `time`.
+NodePose sample(const ModelRef& m, const tinygltf::Animation& a, std::size_t c, double time) {
   const tinygltf::AnimationChannel& ch = a.channels[c];
   const std::string what = "animation 0 channel " + std::to_string(c);
   NodePose pose;
@@ -32,8 +36,23 @@ NodePose first_frame(const ModelRef& m, const tinygltf::Animation& a, std::size_
   const bool cubic = s.interpolation == "CUBICSPLINE";
   if (!cubic && s.interpolation != "LINEAR" && s.interpolation != "STEP")
     throw SceneError(m.file, what + ": unknown interpolation '" + s.interpolation + "'");
-  const std::size_t keys = read_animation_times(m, s.input, what + " input").size();
+  const std::vector<float> times = read_animation_times(m, s.input, what + " input");
+  const std::size_t keys = times.size();
   if (keys == 0) throw SceneError(m.file, what + ": the sampler has no keyframes");
+  for (std::size_t k = 0; k < keys; ++k)
+    if (!std::isfinite(times[k]) || (k > 0 && !(times[k] > times[k - 1])))
+      throw SceneError(m.file, what + ": keyframe time " + std::to_string(k) + " (" + std::to_string(times[k]) +
+                                   ") is not finite or not after the one before (glTF: times increase)");
+  ChannelKeys channel;
+  channel.times = times;
+  channel.interpolation =
+      cubic ? Interpolation::CubicSpline : s.interpolation == "STEP" ? Interpolation::Step : Interpolation::Linear;
+  std::vector<double> values;
+  auto at_time = [&](std::size_t width) {
+    channel.values = values;
+    channel.width = width;
+    return sample_channel(channel, time);
+  };
   const std::size_t per_key = cubic ? 3 : 1;  // CUBICSPLINE: in-tangent, value, out-tangent
   auto check_count = [&](std::size_t outputs, std::size_t width) {
     if (outputs != keys * per_key * width)
@@ -41,20 +60,23 @@ NodePose first_frame(const ModelRef& m, const tinygltf::Animation& a, std::size_
                                    std::to_string(keys * per_key * width) + " for " + std::to_string(keys) +
                                    " keyframe(s)");
   };
-  const std::size_t first = cubic ? 1 : 0;  // element of keyframe 0's value
   if (pose.path == "translation" || pose.path == "scale") {
     const std::vector<glm::vec3> out = read_animation_vec3(m, s.output, what + " output");
     check_count(out.size(), 1);
-    pose.values = {out[first].x, out[first].y, out[first].z};
+    for (const glm::vec3& v : out) values.insert(values.end(), {v.x, v.y, v.z});
+    pose.values = at_time(3);
   } else if (pose.path == "rotation") {
     const std::vector<glm::vec4> out = read_rotations(m, s.output, what + " output");
     check_count(out.size(), 1);
-    pose.values = {out[first].x, out[first].y, out[first].z, out[first].w};
+    for (const glm::vec4& q : out) values.insert(values.end(), {q.x, q.y, q.z, q.w});
+    channel.rotation = true;
+    pose.values = at_time(4);
   } else if (pose.path == "weights") {
     const std::vector<float> out = read_animation_weights(m, s.output, what + " output");
     const std::size_t targets = out.size() / (keys * per_key);
     check_count(out.size(), targets);
-    pose.values.assign(out.begin() + std::ptrdiff_t(first * targets), out.begin() + std::ptrdiff_t((first + 1) * targets));
+    values.assign(out.begin(), out.end());
+    pose.values = targets > 0 ? at_time(targets) : std::vector<double>{};
   } else {
     pose.path.clear();  // "pointer" (KHR_animation_pointer) and others: not a node's pose
   }
@@ -63,17 +85,21 @@ NodePose first_frame(const ModelRef& m, const tinygltf::Animation& a, std::size_
 
 }  // namespace
 
-void pose_at_first_frame(tinygltf::Model& model, const std::string& file) {
-  if (model.animations.empty()) return;
+void pose_animation(tinygltf::Model& model, const std::string& file, std::optional<double> time) {
+  if (model.animations.empty()) {
+    if (time) print_scene_warnings(file, "the file has no animation: --frame-time changes nothing");
+    return;
+  }
   const ModelRef m{model, file};
   const tinygltf::Animation& a = model.animations[0];
   if (model.animations.size() > 1)
     print_scene_warnings(file, std::to_string(model.animations.size() - 1) +
-                                   " animation(s) after the first ignored: the scene is posed at the first frame of "
-                                   "animation 0");
-  // Read every channel before changing any node.
+                                   " animation(s) after the first ignored: the scene is posed by animation 0");
+  // Read every channel before changing any node. Without a time, each channel's first
+  // keyframe: every time before it holds that value.
+  const double t = time.value_or(-std::numeric_limits<double>::infinity());
   std::vector<NodePose> poses;
-  for (std::size_t c = 0; c < a.channels.size(); ++c) poses.push_back(first_frame(m, a, c));
+  for (std::size_t c = 0; c < a.channels.size(); ++c) poses.push_back(sample(m, a, c, t));
   for (std::size_t c = 0; c < poses.size(); ++c) {
     const NodePose& p = poses[c];
     if (p.path.empty()) continue;

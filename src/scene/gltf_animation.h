@@ -1,8 +1,9 @@
-// A glTF file's animation reduced to one pose: Lancer renders a still (the motion issue
-// adds time), and a file that animates its nodes is shown in the pose its first animation
-// starts from, not in the rest pose its nodes store.
+// A glTF file's animation reduced to one pose: the scene as its first animation has it at a
+// time of its timeline (lancer render --frame-time), or, without a time, at the first
+// keyframe of each channel rather than in the rest pose its nodes store.
 #pragma once
 
+#include <optional>
 #include <string>
 
 namespace tinygltf {
@@ -12,12 +13,14 @@ class Model;
 namespace lancer::gltf {
 
 // Overwrites the translation, rotation, scale and morph weights of every node that
-// model.animations[0] animates with that channel's value at its first keyframe (glTF 2.0,
-// "Animations": times increase, so keyframe 0; a CUBICSPLINE sampler stores in-tangent,
-// value and out-tangent per keyframe, so its value is the second element). Other
-// animations are ignored, with a warning. A channel that targets a node with a matrix
-// (which glTF forbids) is skipped with a warning. Throws SceneError for a malformed
-// channel or sampler.
-void pose_at_first_frame(tinygltf::Model& model, const std::string& file);
+// model.animations[0] animates with that channel's value at `time` (seconds on the
+// animation's timeline; nullopt: each channel's first keyframe), sampled as the channel's
+// sampler says (animation_sampling.h). Skins then follow their joints, as the reader poses
+// them from the nodes. Other animations are ignored, with a warning; a file without
+// animation is left as it is (with a warning when a time was given). A channel that targets
+// a node with a matrix (which glTF forbids) is skipped with a warning. Throws SceneError for
+// a malformed channel or sampler (times not finite or not increasing, outputs that do not
+// match the keyframes).
+void pose_animation(tinygltf::Model& model, const std::string& file, std::optional<double> time);
 
 }  // namespace lancer::gltf

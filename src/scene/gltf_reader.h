@@ -2,6 +2,7 @@
 #pragma once
 
 #include <filesystem>
+#include <optional>
 #include <span>
 
 #include "scene/scene.h"
@@ -10,11 +11,14 @@ namespace lancer {
 
 // Throws SceneError on anything malformed. May return a scene with no triangles. `scene`
 // chooses one of the file's scenes (glTF "scenes"); -1 loads its default scene.
-Scene read_gltf(const std::filesystem::path& path, int scene = -1);
+// `frame_time`: the scene as its first animation poses it at that time, in seconds
+// (gltf_animation.h; nullopt: at each channel's first keyframe).
+Scene read_gltf(const std::filesystem::path& path, int scene = -1, std::optional<double> frame_time = std::nullopt);
 
 // The same for a file's bytes already in memory (the fuzz target uses it). `path` is
 // only named in messages, gives the folder external buffers and images resolve
 // against, and by its extension says whether the bytes must be a binary glTF.
-Scene read_gltf_bytes(std::span<const unsigned char> bytes, const std::filesystem::path& path, int scene = -1);
+Scene read_gltf_bytes(std::span<const unsigned char> bytes, const std::filesystem::path& path, int scene = -1,
+                      std::optional<double> frame_time = std::nullopt);
 
 }  // namespace lancer

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <system_error>
 
 #include "scene/gltf_reader.h"
@@ -12,8 +13,10 @@
 
 namespace lancer {
 
-Scene load_scene(const std::filesystem::path& path, std::optional<int> gltf_scene) {
+Scene load_scene(const std::filesystem::path& path, std::optional<int> gltf_scene, std::optional<double> frame_time) {
   const std::string file = path.string();
+  if (frame_time && !std::isfinite(*frame_time))
+    throw SceneError(file, "--frame-time " + std::to_string(*frame_time) + ": not a time on the timeline");
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw SceneError(file, "no such file");
   if (!std::filesystem::is_regular_file(path, ec)) throw SceneError(file, "not a regular file");
@@ -23,9 +26,10 @@ Scene load_scene(const std::filesystem::path& path, std::optional<int> gltf_scen
   SceneWarningLog warnings;
   Scene scene;
   if (ext == ".gltf" || ext == ".glb") {
-    scene = read_gltf(path, gltf_scene.value_or(-1));
+    scene = read_gltf(path, gltf_scene.value_or(-1), frame_time);
   } else if (ext == ".obj") {
     if (gltf_scene) throw SceneError(file, "--scene: an OBJ file has no scenes to choose from");
+    if (frame_time) throw SceneError(file, "--frame-time: an OBJ file has no animation");
     scene = read_obj(path);
   } else {
     throw SceneError(file, "unknown scene format '" + ext + "' (expected .gltf, .glb or .obj)");

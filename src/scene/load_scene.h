@@ -10,6 +10,9 @@ namespace lancer {
 
 // Throws SceneError naming the file and the problem. A scene with no triangles is an error.
 // `gltf_scene` (--scene) chooses one of a glTF file's scenes; an OBJ file has none to choose.
-Scene load_scene(const std::filesystem::path& path, std::optional<int> gltf_scene = std::nullopt);
+// `frame_time` (--frame-time, seconds, finite) poses a glTF file's animation at that time;
+// an OBJ file has no animation.
+Scene load_scene(const std::filesystem::path& path, std::optional<int> gltf_scene = std::nullopt,
+                 std::optional<double> frame_time = std::nullopt);
 
 }  // namespace lancer

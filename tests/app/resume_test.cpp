@@ -131,6 +131,7 @@ TEST_F(Resume, RefusesAnotherRender) {
   expect_refused({"--seed", "7", "--aperture", "0.03", "--focus-distance", "0.6"}, "another camera");
   expect_refused({"--seed", "7", "--eye", "0.3,0.3,-0.7", "--look-at", "0.278,0.273,0.28"}, "another camera");
   expect_refused({"--seed", "7", "--env-color", "1,1,1"}, "another environment");
+  expect_refused({"--seed", "7", "--frame-time", "0.5"}, "--frame-time none, this render has --frame-time 0x1p-1");
   expect_refused({"--seed", "7", "--spp", "2"}, "it already has 3 samples per pixel, more than --spp 2");
   expect_refused({"--seed", "7", "--integrator", "sppm"}, "the sppm integrator cannot resume");
 }

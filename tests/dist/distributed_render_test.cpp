@@ -145,7 +145,7 @@ TEST_P(MatchesOneProcess, ImageAndStateBitForBit) {
   EXPECT_EQ(run.stats.max_spp, static_cast<std::uint32_t>(c.spp));
   EXPECT_EQ(run.stats.primary_rays, static_cast<std::uint64_t>(c.width * c.height * c.spp));
   EXPECT_GE(run.stats.rays, run.stats.primary_rays);
-  const std::size_t tiles = distributed_tiles(s).size();
+  const std::size_t tiles = distributed_tiles(s, static_cast<int>(c.ranks.size())).size();
   EXPECT_GT(calls, 0u);
   EXPECT_EQ(total, tiles * static_cast<std::size_t>(c.spp));
   EXPECT_EQ(last_done, total);
@@ -411,6 +411,12 @@ TEST(DistributedRender, TilesAreTheSettingsButNeverLargerThanTheLimit) {
   EXPECT_EQ(tiles[5].y1, 130);
   s.tile_size = 16;
   EXPECT_EQ(distributed_tiles(s).size(), 19u * 9u);
+  // Enough tiles for three units per rank: 171 tiles of 16 serve 57 ranks; 58 need tiles of
+  // 8; no tile is smaller than a block, however many ranks.
+  EXPECT_EQ(distributed_tiles(s, 57).size(), 19u * 9u);
+  EXPECT_EQ(distributed_tiles(s, 58).size(), 38u * 17u);
+  EXPECT_EQ(distributed_tiles(settings(24, 24, 1, 64), 4).size(), 9u) << "64 -> 32 -> 16 -> 8";
+  EXPECT_EQ(distributed_tiles(settings(24, 24, 1, 64), 1000).size(), 9u);
 }
 
 // A unit's sums at `count` samples a pixel, zero sums.

@@ -1,10 +1,11 @@
-// glTF skins and morph targets in the pose the file gives (no animation): a two-bone
+// glTF skins and morph targets in the pose the file gives, or its animation at a time: a two-bone
 // strip whose second joint turns 90 degrees bends 90 degrees, the skinned node's own
 // transform is ignored, morph weights (node over mesh) move the vertices, and malformed
 // skins are refused with a message.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -65,9 +66,9 @@ GltfBuilder two_bone_strip() {
 
 class GltfSkins : public gltf_test::GltfTempDir {
  protected:
-  Scene load(const GltfBuilder& b) {
+  Scene load(const GltfBuilder& b, std::optional<double> frame_time = std::nullopt) {
     b.write_data_uri_gltf(path("file.gltf"));
-    return read_gltf(path("file.gltf"));
+    return read_gltf(path("file.gltf"), -1, frame_time);
   }
 };
 
@@ -204,6 +205,47 @@ TEST_F(GltfSkins, FirstAnimationFrameSetsMorphWeightsAndTranslations) {
   testing::internal::CaptureStderr();
   EXPECT_NEAR(highest_y(load(b)), 1.0f, 1e-5f) << "a node with a matrix is not animated";
   EXPECT_NE(testing::internal::GetCapturedStderr().find("which has a matrix"), std::string::npos);
+}
+
+// --frame-time: the joint's rotation a third of the way from 90 degrees to straight (LINEAR:
+// slerp, 60 degrees), held before and after its keys; STEP holds the first key until the
+// second; the skinned strip's tip follows its joint.
+TEST_F(GltfSkins, FrameTimePosesTheJointsAtThatTime) {
+  const float s = std::sqrt(0.5f);
+  GltfBuilder b = two_bone_strip();
+  animate(b, 0, "rotation", {0.5f, 2.0f}, {0, 0, s, s, 0, 0, 0, 1}, "VEC4", "LINEAR");
+  // Joint 1 at (1, 0) turned by a about z: the tip's upper corner (2, 0.1) reaches
+  // y = sin(a) + 0.1 cos(a).
+  auto tip_y = [](double degrees) {
+    const double a = degrees * 3.14159265358979323846 / 180.0;
+    return static_cast<float>(std::sin(a) + 0.1 * std::cos(a));
+  };
+  EXPECT_NEAR(highest_y(load(b, 1.0)), tip_y(60.0), 2e-6f) << "LINEAR, a third of the way";
+  EXPECT_NEAR(highest_y(load(b, 0.0)), tip_y(90.0), 2e-6f) << "before the first key";
+  EXPECT_NEAR(highest_y(load(b, 5.0)), 0.1f, 2e-6f) << "after the last key: straight";
+  animate(b, 0, "rotation", {0.5f, 2.0f}, {0, 0, s, s, 0, 0, 0, 1}, "VEC4", "STEP");
+  EXPECT_NEAR(highest_y(load(b, 1.99)), tip_y(90.0), 2e-6f) << "STEP holds key 0";
+  EXPECT_NEAR(highest_y(load(b, 2.0)), 0.1f, 2e-6f) << "STEP at key 1";
+}
+
+TEST_F(GltfSkins, FrameTimeSetsTranslationsAndMorphWeights) {
+  GltfBuilder b = morphing_triangle();
+  animate(b, 0, "weights", {0.0f, 1.0f}, {0.6f, 0.1f}, "SCALAR", "LINEAR");
+  EXPECT_NEAR(third_vertex_z(load(b, 0.5)), 0.35f, 1e-6f);
+  // CUBICSPLINE translation, keys at 0 and 2: y from 3 (out-tangent 3) to 5 (in-tangent -1).
+  // At t = 1: 3/2 + 2 * 3/8 + 5/2 + 2 * 1/8 = 5, and the triangle's top is at y = 1.
+  animate(b, 0, "translation", {0.0f, 2.0f}, {0, 99, 0, 0, 3, 0, 0, 3, 0, /**/ 0, -1, 0, 0, 5, 0, 0, 77, 0}, "VEC3",
+          "CUBICSPLINE");
+  EXPECT_NEAR(highest_y(load(b, 1.0)), 6.0f, 1e-5f);
+  EXPECT_NEAR(highest_y(load(b)), 4.0f, 1e-5f) << "no time: the first key's value";
+}
+
+TEST_F(GltfSkins, KeyframeTimesMustIncrease) {
+  GltfBuilder b = morphing_triangle();
+  animate(b, 0, "translation", {1.0f, 1.0f}, {0, 3, 0, 0, 9, 0}, "VEC3", "LINEAR");
+  expect_error(b, "not after the one before");
+  animate(b, 0, "translation", {2.0f, 1.0f}, {0, 3, 0, 0, 9, 0}, "VEC3", "LINEAR");
+  expect_error(b, "not after the one before");
 }
 
 }  // namespace

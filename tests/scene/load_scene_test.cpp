@@ -3,8 +3,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <string>
 
 #include "scene/scene_builder.h"
@@ -70,6 +72,24 @@ TEST_F(LoadScene, SceneWithoutTrianglesIsRefused) {
   EXPECT_NE(error_of(write("flat.obj", "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n")).find("no triangles"),
             std::string::npos);
   EXPECT_NE(error_of(write("empty.gltf", R"({"asset":{"version":"2.0"}})")).find("no triangles"), std::string::npos);
+}
+
+// --frame-time poses a glTF file's animation; an OBJ file has none, and a time must be a
+// number on the timeline. A glTF file without animation loads as it is (with a warning).
+TEST_F(LoadScene, FrameTimeIsForGltfAndMustBeFinite) {
+  const fs::path obj = write("a.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  try {
+    load_scene(obj, std::nullopt, 1.0);
+    ADD_FAILURE() << "an OBJ file took a frame time";
+  } catch (const SceneError& e) {
+    EXPECT_NE(std::string(e.what()).find("--frame-time: an OBJ file has no animation"), std::string::npos) << e.what();
+  }
+  const fs::path cornell = test::scenes_dir() / "cornell-box.gltf";
+  for (const double t : {std::nan(""), std::numeric_limits<double>::infinity()})
+    EXPECT_THROW(load_scene(cornell, std::nullopt, t), SceneError) << t;
+  testing::internal::CaptureStderr();
+  EXPECT_EQ(load_scene(cornell, std::nullopt, 2.5).triangle_count(), 32u);
+  EXPECT_NE(testing::internal::GetCapturedStderr().find("no animation"), std::string::npos);
 }
 
 TEST(SceneBuilder, DropsZeroAreaAndRefusesNonFinite) {

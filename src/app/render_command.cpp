@@ -23,6 +23,7 @@
 #include "dist/launch.h"
 #include "render/camera.h"
 #include "render/checkpoint_file.h"
+#include "render/content_hash.h"
 #include "render/environment.h"
 #include "render/image_io.h"
 #include "render/renderer.h"
@@ -132,6 +133,9 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
         throw std::invalid_argument("output " + o + ": unknown image type '" + ext + "' (expected .exr or .png)");
     }
 
+    if (channel && opt.settings.integrator == IntegratorKind::Sppm)  // before every rank loads the scene
+      throw std::invalid_argument("--integrator sppm renders in one process (each photon pass spans the whole "
+                                  "image); run it without mpirun");
     // Read first, so a wrong file is refused before the scene loads.
     std::optional<Checkpoint> resumed;
     if (!opt.resume.empty() && rank == 0) {  // (the workers keep no state)
@@ -143,9 +147,9 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
 
     const auto t_load = std::chrono::steady_clock::now();
     const Scene scene = load_scene(opt.scene, opt.gltf_scene, opt.frame_time);
-    print_load_warnings(scene, err);
+    if (rank == 0) print_load_warnings(scene, err);  // (every rank loads the same scene: one says so)
     const bool lit_by_env = !opt.env_file.empty() || !opt.env_color.empty();
-    if (!has_light(scene) && !lit_by_env &&
+    if (rank == 0 && !has_light(scene) && !lit_by_env &&
         (opt.settings.integrator == IntegratorKind::Whitted || opt.settings.integrator == IntegratorKind::Path ||
          opt.settings.integrator == IntegratorKind::Sppm || opt.settings.integrator == IntegratorKind::Photon))
       err << "lancer: warning: " << scene.source << ": the scene has no lights; the image will be black ("
@@ -196,13 +200,17 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
         const std::filesystem::path parent = std::filesystem::path(o).parent_path();
         if (!parent.empty()) std::filesystem::create_directories(parent);
       }
+    // The EXRs first: they are what a resume needs, should the process be killed while it
+    // writes (mpirun sends SIGKILL about a second after SIGTERM).
     auto write_outputs = [&](const ImageRGB& image) {
-      for (const auto& o : opt.outputs) {
-        std::string ext = std::filesystem::path(o).extension().string();
-        for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-        if (keeps_state && ext == ".exr") write_checkpoint(state, facts, o);
-        else write_image(image, o, opt.display);
-      }
+      for (const bool exr_pass : {true, false})
+        for (const auto& o : opt.outputs) {
+          std::string ext = std::filesystem::path(o).extension().string();
+          for (auto& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+          if ((ext == ".exr") != exr_pass) continue;
+          if (keeps_state && ext == ".exr") write_checkpoint(state, facts, o);
+          else write_image(image, o, opt.display);
+        }
     };
 
     const InterruptGuard interrupt;
@@ -228,14 +236,15 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
     ImageRGB image;
     DistributedReport report;
     if (channel) {
-      if (s.integrator == IntegratorKind::Sppm)
-        throw std::invalid_argument("--integrator sppm renders in one process (each photon pass spans the whole "
-                                    "image); run it without mpirun");
       worker_settings = s;
       check_render_settings(scene, camera, s);
       TileRunner runner(s.threads);
       const SampleRenderer renderer(scene, *accel, camera, s, runner);
-      const WorkerReady me{true, runner.concurrency(), load_s, build_s, host_name(), ""};
+      // What every rank must agree on (not spp: only rank 0 reads a resumed render's).
+      ContentHash digest;
+      for (const auto& [key, value] : render_facts(opt, s, scene, camera))
+        if (key != "spp") digest.add(key + "=" + value + "\n");
+      const WorkerReady me{true, runner.concurrency(), load_s, build_s, host_name(), "", digest.hex()};
       distributed_started = true;
       if (rank != 0) {
         serve_distributed(*channel, &renderer, s, &runner, me);

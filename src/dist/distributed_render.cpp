@@ -29,9 +29,6 @@ constexpr double kUnitSeconds = 0.1;
 // ranks busy while the first passes are short.
 constexpr int kSpreadDivisor = 8;
 constexpr double kShortestUnitSeconds = 0.01;
-constexpr int kMaxUnitPasses = 256;
-// The worker keeps a unit's samples before it adds them: at most this many bytes.
-constexpr std::size_t kMaxUnitBytes = std::size_t{64} << 20;
 // How long an idle rank waits for a local result before it polls the channel again.
 constexpr std::chrono::microseconds kPoll{2000};
 
@@ -67,6 +64,7 @@ std::vector<std::byte> pack(const WorkerReady& r) {
   std::memcpy(bytes.data(), &h, sizeof h);
   put_string(bytes, r.host);
   put_string(bytes, r.error);
+  put_string(bytes, r.facts);
   return bytes;
 }
 
@@ -79,6 +77,8 @@ WorkerReady unpack_ready(const std::vector<std::byte>& bytes) {
   std::size_t at = sizeof h;
   r.host = get_string(bytes, at);
   r.error = get_string(bytes, at);
+  r.facts = get_string(bytes, at);
+  if (at != bytes.size()) throw std::runtime_error("distributed render: a Ready message with bytes after its end");
   return r;
 }
 
@@ -125,8 +125,11 @@ ImageRGB render_distributed(Channel& channel, const SampleRenderer& renderer, co
     long k = 1;
     if (sample_cost > 0.0) {
       const double tile_pass_s = sample_cost * static_cast<double>(tile_pixels);  // one thread's
-      const long aim = std::lround(kUnitSeconds / tile_pass_s), shortest = std::lround(kShortestUnitSeconds / tile_pass_s);
-      k = std::min(aim, std::max<long>(shortest, queue.least_pass() / kSpreadDivisor));
+      auto passes_in = [&](double seconds) {  // (clamped before rounding: a cost may be tiny)
+        return std::lround(std::clamp(seconds / tile_pass_s, 1.0, double{kMaxUnitPasses}));
+      };
+      k = std::min(passes_in(kUnitSeconds), std::max<long>(passes_in(kShortestUnitSeconds),
+                                                           queue.least_pass() / kSpreadDivisor));
     }
     const auto by_bytes = static_cast<long>(std::max<std::size_t>(1, kMaxUnitBytes / (tile_pixels * sizeof(glm::vec3))));
     return static_cast<int>(std::clamp(threads * k, 1L, std::min(by_bytes, long{kMaxUnitPasses})));
@@ -170,6 +173,11 @@ ImageRGB render_distributed(Channel& channel, const SampleRenderer& renderer, co
       switch (m->kind) {
         case MessageKind::Ready: {
           WorkerReady w = unpack_ready(m->bytes);
+          if (w.ok && w.facts != me.facts) {
+            w.ok = false;
+            w.error = "it renders another image than rank 0 (another scene file, scene contents, option or lancer "
+                      "version): every machine needs the same lancer, scene files and options";
+          }
           if (!w.ok && failure.empty())
             failure = "rank " + std::to_string(from) + " on " + w.host + ": " + w.error;
           ready[from] = w.ok ? 1 : 0;
@@ -202,22 +210,36 @@ ImageRGB render_distributed(Channel& channel, const SampleRenderer& renderer, co
   stopping = true;
   const bool failed = !failure.empty();  // a worker that fails once the work is done only warns
   stats.stopped = !queue.complete();
-  // A signal: mpirun ends every rank a second or so after it, so save what is here first.
-  if (interrupted() && control.on_checkpoint) {
+  // Stop everyone (cheap: a message each and a flag), then take what they finish.
+  for (int rank = 1; rank < ranks; ++rank) channel.send(rank, MessageKind::Stop, {});
+  local.request_stop();
+  // A signal, now or while the others answer: mpirun ends every rank about a second after
+  // it, so save what is here at once, while the others wind down.
+  bool saved = false;
+  auto save_if_signalled = [&] {
+    if (saved || !interrupted() || !control.on_checkpoint) return;
     queue.settle_passes();
     control.on_checkpoint(state.mean(), state.passes);
-  }
-  // Stop everyone and take what they finish.
-  for (int rank = 1; rank < ranks; ++rank) channel.send(rank, MessageKind::Stop, {});
+    saved = true;
+  };
+  save_if_signalled();
   local.stop();
   for (;;) {
     const bool any = poll();
     if (std::count(done.begin() + 1, done.end(), 1) == ranks - 1) break;
+    save_if_signalled();
     if (!any) local.wait_for_result(kPoll);
   }
   poll();
   channel.flush();
-  if (failed) throw WorkerSetupFailed(failure);
+  if (failed) {
+    // What the others rendered is not lost: the outputs hold it, ready for --resume.
+    if (control.on_checkpoint) {
+      queue.settle_passes();
+      control.on_checkpoint(state.mean(), state.passes);
+    }
+    throw WorkerSetupFailed(failure + (control.on_checkpoint ? " (the image so far is saved: --resume continues it)" : ""));
+  }
   if (!failure.empty()) report.warnings.push_back(failure);
 
   queue.settle_passes();

@@ -26,6 +26,10 @@ struct WorkerReady {
   double load_s = 0.0, build_s = 0.0;  // reading the scene, building the tree
   std::string host;
   std::string error;  // when !ok
+  // A digest of what the rank renders (scene files and their contents, every setting that
+  // changes the image, the program version): rank 0 refuses a worker whose digest is not
+  // its own, for its samples would belong to another image.
+  std::string facts;
 };
 std::vector<std::byte> pack(const WorkerReady& ready);
 WorkerReady unpack_ready(const std::vector<std::byte>& bytes);
@@ -60,7 +64,8 @@ struct DistributedReport {
 // stop by the flag, on_checkpoint is called with the image so far at once (the runtime
 // kills every rank soon after a signal), then once the workers have answered the stop, the
 // function returns. control.checkpoint_s: on_checkpoint every so many seconds. `me` is rank
-// 0's own setup. Throws WorkerSetupFailed when a worker failed its setup.
+// 0's own setup. Throws WorkerSetupFailed when a worker failed its setup or renders other
+// facts than rank 0 (after saving the image so far through on_checkpoint).
 ImageRGB render_distributed(Channel& channel, const SampleRenderer& renderer, const RenderSettings& settings,
                             TileRunner& runner, const WorkerReady& me, RenderState& state, RenderStats& stats,
                             DistributedReport& report, const ProgressCallback& progress = {},

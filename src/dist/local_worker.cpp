@@ -15,14 +15,26 @@ UnitResult render_unit(const SampleRenderer& renderer, const Tile& tile, UnitTas
   const auto pixels = static_cast<std::size_t>(w) * static_cast<std::size_t>(tile.y1 - tile.y0);
   if (task.sums.sum.size() != pixels || task.sums.count.size() != pixels || unit.passes < 1 || unit.first_pass < 0)
     throw std::invalid_argument("distributed render: unit " + std::to_string(unit.id) + " does not fit its tile");
-  // Every pass's samples first, in parallel (they do not depend on each other), ...
+  // Every pass's samples first, in parallel (they do not depend on each other); with fewer
+  // passes than threads, each pass in strips of block rows too (a sample depends on its
+  // pixel, not on what else its wavefront holds), ...
+  const int strips = (tile.y1 - tile.y0 + kBlockSide - 1) / kBlockSide;
+  const int threads = runner.concurrency();
+  const int parts = unit.passes >= threads ? 1 : std::min(strips, (threads + unit.passes - 1) / unit.passes);
+  auto part = [&](int j) {  // rows of blocks [j * strips / parts, (j + 1) * strips / parts)
+    Tile t = tile;
+    t.y0 = tile.y0 + kBlockSide * (j * strips / parts);
+    t.y1 = std::min(tile.y1, tile.y0 + kBlockSide * ((j + 1) * strips / parts));
+    return t;
+  };
   std::vector<glm::vec3> radiance(static_cast<std::size_t>(unit.passes) * pixels);
-  std::vector<char> finished(static_cast<std::size_t>(unit.passes), 0);
+  std::vector<char> finished(static_cast<std::size_t>(unit.passes) * static_cast<std::size_t>(parts), 0);
   std::atomic<std::uint64_t> rays{0}, primary_rays{0};
   std::atomic<Clock::rep> primary_ticks{0};
   auto must_stop = [&] { return stop.load(std::memory_order_relaxed); };
-  runner.run_ranges(static_cast<std::size_t>(unit.passes), 1, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t k = begin; k < end; ++k) {
+  runner.run_ranges(finished.size(), 1, [&](std::size_t begin, std::size_t end) {
+    for (std::size_t job = begin; job < end; ++job) {
+      const std::size_t k = job / static_cast<std::size_t>(parts);
       glm::vec3* out = radiance.data() + k * pixels;
       auto take = [&](const PixelBlock& block, const glm::vec3* L) {
         for (int i = 0; i < block.pixel_count(); ++i)
@@ -31,9 +43,9 @@ UnitResult render_unit(const SampleRenderer& renderer, const Tile& tile, UnitTas
       };
       SampleRenderer::Counters counters;
       const bool done = renderer.render_tile(
-          tile, unit.first_pass + static_cast<int>(k), [](const PixelBlock&) { return true; }, take, must_stop,
-          counters);
-      finished[k] = done ? 1 : 0;
+          part(static_cast<int>(job % static_cast<std::size_t>(parts))), unit.first_pass + static_cast<int>(k),
+          [](const PixelBlock&) { return true; }, take, must_stop, counters);
+      finished[job] = done ? 1 : 0;
       rays += counters.rays;
       primary_rays += counters.primary_rays;
       primary_ticks += counters.primary_time.count();
@@ -42,7 +54,8 @@ UnitResult render_unit(const SampleRenderer& renderer, const Tile& tile, UnitTas
   // ... then added in pass order, as one process adds them.
   UnitResult r;
   r.unit = unit;
-  r.passes_done = static_cast<std::int32_t>(std::find(finished.begin(), finished.end(), 0) - finished.begin());
+  r.passes_done = static_cast<std::int32_t>(
+      (std::find(finished.begin(), finished.end(), 0) - finished.begin()) / parts);
   for (int k = 0; k < r.passes_done; ++k) {
     const auto s = static_cast<std::uint32_t>(unit.first_pass + k);
     const glm::vec3* L = radiance.data() + static_cast<std::size_t>(k) * pixels;

@@ -46,6 +46,8 @@ class LocalWorker {
   // Ends the unit in progress at its next wavefront, drops the queued ones and joins the
   // thread; the partial result stays for take_result. Idempotent.
   void stop();
+  // stop() without the wait: the unit in progress ends soon; stop() joins.
+  void request_stop() { stop_.store(true); }
 
  private:
   void run();

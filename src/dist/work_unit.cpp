@@ -54,8 +54,11 @@ Header unpack_with(const std::vector<std::byte>& bytes, TileSums& sums) {
   if (h.pixels == 0 || h.pixels > (bytes.size() - sizeof h) / kPixelBytes ||
       bytes.size() != sizeof h + h.pixels * kPixelBytes)
     damaged("a message of " + std::to_string(bytes.size()) + " bytes for " + std::to_string(h.pixels) + " pixels");
-  if (h.unit.passes < 1 || h.unit.first_pass < 0)
-    damaged("a unit of " + std::to_string(h.unit.passes) + " passes from pass " + std::to_string(h.unit.first_pass));
+  if (h.unit.passes < 1 || h.unit.first_pass < 0 || h.unit.passes > kMaxUnitPasses ||
+      h.unit.first_pass > kMaxUnitSpp - h.unit.passes ||
+      static_cast<std::uint64_t>(h.unit.passes) * h.pixels * 3 * sizeof(float) > kMaxUnitBytes)
+    damaged("a unit of " + std::to_string(h.unit.passes) + " passes from pass " + std::to_string(h.unit.first_pass) +
+            " over " + std::to_string(h.pixels) + " pixels");
   const std::size_t n = h.pixels;
   sums.sum.resize(n);
   sums.count.resize(n);

@@ -13,6 +13,13 @@
 
 namespace lancer {
 
+// A unit holds at most this many passes, and its samples, which the worker keeps until it
+// adds them, at most this many bytes (12 a sample); a unit beyond either is refused.
+inline constexpr int kMaxUnitPasses = 256;
+inline constexpr std::size_t kMaxUnitBytes = std::size_t{64} << 20;
+// Passes a render may have (lancer render's most --spp).
+inline constexpr int kMaxUnitSpp = 1 << 20;
+
 struct WorkUnit {
   std::uint32_t id = 0;    // unique within a render
   std::uint32_t tile = 0;  // index into the render's tiles
@@ -49,7 +56,8 @@ struct UnitResult {
 // Byte images for the transport (the same binary on every rank: native byte order).
 std::vector<std::byte> pack(const UnitTask& task);
 std::vector<std::byte> pack(const UnitResult& result);
-// Throw std::runtime_error when the bytes are not what pack wrote (size, counts).
+// Throw std::runtime_error when the bytes are not what pack wrote (size, counts) or hold a
+// unit beyond the limits above.
 UnitTask unpack_task(const std::vector<std::byte>& bytes);
 UnitResult unpack_result(const std::vector<std::byte>& bytes);
 

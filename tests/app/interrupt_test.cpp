@@ -26,6 +26,7 @@
 #include "render/checkpoint_file.h"
 #include "render/image_io.h"
 #include "test_paths.h"
+#include "test_process.h"
 
 namespace lancer {
 namespace {
@@ -51,17 +52,7 @@ class RenderProcess : public ::testing::Test {
                                      "-o", exr().string(), "-o", png().string(), "--width", std::to_string(width),
                                      "--no-progress", "--threads", "2"};
     args.insert(args.end(), extra.begin(), extra.end());
-    const pid_t pid = fork();
-    if (pid == 0) {
-      const std::string out = (dir_ / "stdout").string(), err = (dir_ / "stderr").string();
-      if (!freopen(out.c_str(), "w", stdout) || !freopen(err.c_str(), "w", stderr)) _exit(99);
-      std::vector<char*> argv;
-      for (std::string& a : args) argv.push_back(a.data());
-      argv.push_back(nullptr);
-      execv(argv[0], argv.data());
-      _exit(98);
-    }
-    return pid;
+    return test::spawn(args, (dir_ / "stdout").string(), (dir_ / "stderr").string());
   }
 
   // Waits up to `limit` seconds; returns the exit status (or -1 on a signal death / timeout).

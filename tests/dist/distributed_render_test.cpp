@@ -167,6 +167,8 @@ INSTANTIATE_TEST_SUITE_P(
                       Case{"Path2Ranks", IntegratorKind::Path, ranks({1, 1}), 32, 24, 5, 16, 0},
                       Case{"Path3RanksTile7Shuffled", IntegratorKind::Path, ranks({2, 1, 3}), 30, 26, 4, 7, 5},
                       Case{"Path3RanksOneTile", IntegratorKind::Path, ranks({1, 2, 1}), 24, 24, 6, 64, 9},
+                      // Fewer passes than threads: each pass in strips of block rows.
+                      Case{"Path2Ranks4ThreadsFewPasses", IntegratorKind::Path, ranks({4, 4}), 40, 40, 2, 32, 3},
                       Case{"Whitted2RanksTile13", IntegratorKind::Whitted, ranks({1, 2}), 40, 32, 3, 13, 0},
                       Case{"Whitted3RanksShuffled", IntegratorKind::Whitted, ranks({1, 1, 1}), 24, 24, 4, 8, 3},
                       Case{"Ao3Ranks", IntegratorKind::Ao, ranks({2, 1, 1}), 24, 24, 5, 6, 0},
@@ -334,20 +336,47 @@ TEST(DistributedRender, CheckpointsHandOutResumableStates) {
   }
 }
 
+// The render ends with the worker's error, and what was rendered is saved first (through
+// on_checkpoint) as a state a resume can continue.
 TEST(DistributedRender, AWorkerThatFailedItsSetupEndsTheRender) {
   const RenderSettings s = settings(24, 24, 3, 8);
   std::vector<RankSetup> r = ranks({1, 1, 1});
   r[2].ok = false;
   r[2].error = "cannot read cornell.gltf: no such file";
   RenderState state;
+  int saves = 0;
+  RenderControl control;
+  control.on_checkpoint = [&](const ImageRGB&, int) {
+    ++saves;
+    expect_resumable(state, s);
+  };
   try {
-    distributed(s, r, state);
+    distributed(s, r, state, {}, control);
     FAIL() << "no WorkerSetupFailed";
   } catch (const WorkerSetupFailed& e) {
     const std::string what = e.what();
     EXPECT_NE(what.find("rank 2"), std::string::npos) << what;
     EXPECT_NE(what.find("thread-2"), std::string::npos) << "the host: " << what;
     EXPECT_NE(what.find("cannot read cornell.gltf: no such file"), std::string::npos) << what;
+    EXPECT_NE(what.find("--resume"), std::string::npos) << what;
+  }
+  EXPECT_EQ(saves, 1);
+}
+
+// A worker whose facts (scene, settings, version) are not rank 0's would render another
+// image: it is refused like a failed setup.
+TEST(DistributedRender, AWorkerThatRendersOtherFactsIsRefused) {
+  const RenderSettings s = settings(24, 24, 3, 8);
+  std::vector<RankSetup> r = ranks({1, 1});
+  r[1].facts = "another scene";
+  RenderState state;
+  try {
+    distributed(s, r, state);
+    FAIL() << "no WorkerSetupFailed";
+  } catch (const WorkerSetupFailed& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("rank 1"), std::string::npos) << what;
+    EXPECT_NE(what.find("another image than rank 0"), std::string::npos) << what;
   }
 }
 

@@ -55,6 +55,7 @@ struct RankSetup {
   int threads = 1;
   bool ok = true;  // false: the rank's setup failed (no renderer), with this error
   std::string error;
+  std::string facts;  // its WorkerReady::facts (rank 0's is always "")
   // Called on the rank's thread before it sends Ready (to hold a rank back). Without it,
   // rank 0 starts once the rank is ready, so that every rank gets units from the first.
   std::function<void()> before_ready;
@@ -88,6 +89,7 @@ inline DistributedRun run_distributed(const Scene& scene, const Accelerator& acc
       WorkerReady me;
       me.threads = setup.threads;
       me.host = "thread-" + std::to_string(r);
+      me.facts = setup.facts;
       try {
         if (setup.before_ready) setup.before_ready();
         if (!setup.ok) {

@@ -25,6 +25,7 @@
 
 #include "render/checkpoint_file.h"
 #include "test_paths.h"
+#include "test_process.h"
 
 namespace lancer {
 namespace {
@@ -71,18 +72,8 @@ class MpiRenderHeavy : public ::testing::Test {
   }
 
   // Starts a process with stdout and stderr to files named after `name`.
-  pid_t start(std::vector<std::string> args, const std::string& name) const {
-    const std::string out = (dir_ / (name + ".out")).string(), err = (dir_ / (name + ".err")).string();
-    const pid_t pid = fork();
-    if (pid == 0) {
-      if (!freopen(out.c_str(), "w", stdout) || !freopen(err.c_str(), "w", stderr)) _exit(99);
-      std::vector<char*> argv;
-      for (std::string& a : args) argv.push_back(a.data());
-      argv.push_back(nullptr);
-      execv(argv[0], argv.data());
-      _exit(98);
-    }
-    return pid;
+  pid_t start(const std::vector<std::string>& args, const std::string& name) const {
+    return test::spawn(args, (dir_ / (name + ".out")).string(), (dir_ / (name + ".err")).string());
   }
   // The exit status, or -1 for a death by signal; a process still running after kHung
   // seconds is killed and fails the test.
@@ -135,12 +126,42 @@ class MpiRenderHeavy : public ::testing::Test {
     return false;
   }
 
+  // The interrupted renders' settings (a resume repeats them): long enough (a few seconds
+  // on two cores) that a checkpoint every 0.05 s comes well before the end.
+  static std::vector<std::string> long_render(std::vector<std::string> more) {
+    more.insert(more.begin(), {"--width", "64", "--spp", "600", "--seed", "3"});
+    return more;
+  }
+  fs::path part() const { return file("part.exr"); }
+
+  // Starts the long render under mpirun -np 3 (1 thread a rank), saving part() every
+  // 0.05 s, and returns its pid once the first checkpoint is there (0 if none came).
+  pid_t start_long_render() const {
+    const pid_t job =
+        start(mpirun(3, lancer("cornell-box.gltf",
+                               long_render({"-o", part().string(), "--threads", "1", "--checkpoint", "0.05"}))),
+              "job");
+    return wait_for_file(part(), job) ? job : 0;
+  }
+
+  // Once the job has ended: part() holds an unfinished render, and resuming it (under
+  // mpirun or in one process) ends with the bytes of the uninterrupted render.
+  void expect_resume_gives_the_whole_image(bool with_mpi) const {
+    const Checkpoint saved = read_checkpoint(part());
+    ASSERT_LT(*std::min_element(saved.state.count.begin(), saved.state.count.end()), 600u)
+        << "the render finished before the interruption: nothing was interrupted";
+    ASSERT_EQ(run(lancer("cornell-box.gltf", long_render({"-o", file("whole.exr").string(), "--threads", "2"})),
+                  "whole"),
+              0)
+        << text("whole.err");
+    std::vector<std::string> resume =
+        lancer("cornell-box.gltf", long_render({"--resume", part().string(), "-o", part().string(), "--threads", "1"}));
+    ASSERT_EQ(run(with_mpi ? mpirun(3, resume) : resume, "resumed"), 0) << text("resumed.err");
+    EXPECT_EQ(slurp(file("whole.exr")), slurp(part())) << "the resumed image differs";
+  }
+
   fs::path dir_;
 };
-
-// The settings of the interrupted renders (a resume repeats them): long enough (a few
-// seconds on two cores) that a checkpoint every 0.05 s comes well before the end.
-const std::vector<std::string> kLongRender = {"--width", "48", "--spp", "400", "--seed", "3"};
 
 TEST_F(MpiRenderHeavy, ThreeRanksWriteTheBytesOneProcessWrites) {
   for (const char* scene : {"cornell-box-spheres.gltf", "cornell-box-dof.gltf"}) {
@@ -169,52 +190,23 @@ TEST_F(MpiRenderHeavy, ThreeRanksWriteTheBytesOneProcessWrites) {
 // kill -9 of rank 1 in the middle: Open MPI ends the job; rank 0 has saved what was done,
 // and a resume in one process ends with the uninterrupted render's bytes.
 TEST_F(MpiRenderHeavy, AKilledWorkerLeavesACheckpointThatResumesToTheSameImage) {
-  const fs::path part = file("part.exr");
-  std::vector<std::string> args = kLongRender;
-  args.insert(args.end(), {"-o", part.string(), "--threads", "1", "--checkpoint", "0.05"});
-  const pid_t job = start(mpirun(3, lancer("cornell-box.gltf", args)), "job");
-  ASSERT_TRUE(wait_for_file(part, job)) << text("job.err");
+  const pid_t job = start_long_render();
+  ASSERT_GT(job, 0) << text("job.err");
   const pid_t worker = rank_pid(job, 1);
   ASSERT_GT(worker, 0) << "rank 1 not found among mpirun's children";
   ASSERT_EQ(kill(worker, SIGKILL), 0);
   EXPECT_NE(wait_for(job), 0) << "the job ended as if nothing had happened: " << text("job.out");
-
-  const Checkpoint saved = read_checkpoint(part);
-  const auto least = *std::min_element(saved.state.count.begin(), saved.state.count.end());
-  ASSERT_LT(least, 400u) << "the render finished before the kill: nothing was interrupted";
-
-  std::vector<std::string> whole = kLongRender;
-  whole.insert(whole.end(), {"-o", file("whole.exr").string(), "--threads", "2"});
-  ASSERT_EQ(run(lancer("cornell-box.gltf", whole), "whole"), 0) << text("whole.err");
-  std::vector<std::string> resume = kLongRender;
-  resume.insert(resume.end(), {"--resume", part.string(), "-o", file("resumed.exr").string()});
-  ASSERT_EQ(run(lancer("cornell-box.gltf", resume), "resumed"), 0)
-      << text("resumed.err");
-  EXPECT_EQ(slurp(file("whole.exr")), slurp(file("resumed.exr"))) << "the resumed image differs";
+  expect_resume_gives_the_whole_image(false);
 }
 
 // Ctrl-C reaches mpirun, which sends SIGTERM to every rank: rank 0 writes what it has. A
 // resume under mpirun, in place, finishes it to the uninterrupted render's bytes.
 TEST_F(MpiRenderHeavy, SigintToMpirunThenAnMpiResumeGivesTheSameImage) {
-  const fs::path part = file("part.exr");
-  std::vector<std::string> args = kLongRender;
-  args.insert(args.end(), {"-o", part.string(), "--threads", "1", "--checkpoint", "0.05"});
-  const pid_t job = start(mpirun(3, lancer("cornell-box.gltf", args)), "job");
-  ASSERT_TRUE(wait_for_file(part, job)) << text("job.err");
+  const pid_t job = start_long_render();
+  ASSERT_GT(job, 0) << text("job.err");
   ASSERT_EQ(kill(job, SIGINT), 0);
   EXPECT_NE(wait_for(job), 0) << text("job.out");
-  const Checkpoint saved = read_checkpoint(part);
-  ASSERT_LT(*std::min_element(saved.state.count.begin(), saved.state.count.end()), 400u)
-      << "the render finished before the signal: nothing was interrupted";
-
-  std::vector<std::string> whole = kLongRender;
-  whole.insert(whole.end(), {"-o", file("whole.exr").string(), "--threads", "2"});
-  ASSERT_EQ(run(lancer("cornell-box.gltf", whole), "whole"), 0) << text("whole.err");
-  std::vector<std::string> resume = kLongRender;
-  resume.insert(resume.end(), {"--resume", part.string(), "-o", part.string(), "--threads", "1"});
-  ASSERT_EQ(run(mpirun(3, lancer("cornell-box.gltf", resume)), "resumed"), 0)
-      << text("resumed.err");
-  EXPECT_EQ(slurp(file("whole.exr")), slurp(part)) << "the resumed image differs";
+  expect_resume_gives_the_whole_image(true);
 }
 
 // A short render in one process, resumed to more samples under mpirun.

@@ -30,7 +30,7 @@ TileSums sample_sums(std::size_t pixels) {
   return sums;
 }
 
-UnitTask sample_task() { return {WorkUnit{0xfedcba98u, 1234, 56, 789}, sample_sums(5)}; }
+UnitTask sample_task() { return {WorkUnit{0xfedcba98u, 1234, 56, 200}, sample_sums(5)}; }
 
 UnitResult sample_result() {
   UnitResult r;
@@ -124,6 +124,29 @@ TEST(WorkUnitBytes, APixelCountThatDisagreesWithTheBytesIsRefused) {
     EXPECT_THROW(unpack_task(with_field<std::uint64_t>(bytes, at, pixels)), std::runtime_error) << pixels;
 }
 
+// A damaged unit must not make a worker allocate without bound: at most kMaxUnitPasses
+// passes, kMaxUnitBytes of samples, and no pass beyond what a render may have.
+TEST(WorkUnitBytes, UnitsBeyondTheLimitsAreRefused) {
+  UnitTask t = sample_task();  // 5 pixels
+  t.unit.first_pass = 0;
+  t.unit.passes = kMaxUnitPasses;
+  EXPECT_NO_THROW(unpack_task(pack(t)));
+  t.unit.passes = kMaxUnitPasses + 1;
+  EXPECT_THROW(unpack_task(pack(t)), std::runtime_error) << "too many passes";
+  t.unit.passes = 4;
+  t.unit.first_pass = kMaxUnitSpp - 4;
+  EXPECT_NO_THROW(unpack_task(pack(t)));
+  t.unit.first_pass = kMaxUnitSpp - 3;
+  EXPECT_THROW(unpack_task(pack(t)), std::runtime_error) << "passes beyond the most a render has";
+  t.unit.first_pass = std::numeric_limits<std::int32_t>::max();
+  EXPECT_THROW(unpack_task(pack(t)), std::runtime_error) << "a first pass near the int limit";
+  // 64 MiB of samples: kMaxUnitPasses passes of 21,846 pixels (12 bytes a sample) are too many.
+  UnitTask big{WorkUnit{1, 0, 0, kMaxUnitPasses}, TileSums{std::vector<glm::dvec3>(21846), std::vector<std::uint32_t>(21846)}};
+  EXPECT_THROW(unpack_task(pack(big)), std::runtime_error) << "samples beyond kMaxUnitBytes";
+  big.unit.passes = 1;
+  EXPECT_NO_THROW(unpack_task(pack(big)));
+}
+
 TEST(WorkUnitBytes, SumsAndCountsOfDifferentLengthsAreNotPacked) {
   UnitTask t = sample_task();
   t.sums.count.pop_back();
@@ -196,7 +219,9 @@ TEST(WorkerReadyBytes, RoundTrip) {
   w.build_s = 0.25;
   w.host = "node-17.cluster";
   w.error = std::string("cannot read scene.gltf: ") + '\0' + "binary";
+  w.facts = "0123456789abcdef";
   const WorkerReady back = unpack_ready(pack(w));
+  EXPECT_EQ(back.facts, w.facts);
   EXPECT_EQ(back.ok, w.ok);
   EXPECT_EQ(back.threads, w.threads);
   EXPECT_EQ(back.load_s, w.load_s);
@@ -208,11 +233,15 @@ TEST(WorkerReadyBytes, RoundTrip) {
   EXPECT_TRUE(unpack_ready(pack(w)).ok);
 }
 
-TEST(WorkerReadyBytes, CutShortIsRefused) {
+TEST(WorkerReadyBytes, CutShortOrTooLongIsRefused) {
   WorkerReady w;
   w.host = "h";
   w.error = "e";
+  w.facts = "f";
   const std::vector<std::byte> good = pack(w);
+  std::vector<std::byte> longer = good;
+  longer.push_back(std::byte{0});
+  EXPECT_THROW(unpack_ready(longer), std::runtime_error);
   for (std::size_t n = 0; n < good.size(); ++n)
     EXPECT_THROW(unpack_ready(std::vector<std::byte>(good.begin(), good.begin() + static_cast<std::ptrdiff_t>(n))),
                  std::runtime_error)

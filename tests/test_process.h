@@ -1,0 +1,28 @@
+// Starting a program from a test, its stdout and stderr to files, as the tests that run the
+// real binaries (interrupts, mpirun) need.
+#pragma once
+
+#include <unistd.h>
+
+#include <cstdio>
+#include <string>
+#include <vector>
+
+namespace lancer::test {
+
+// Forks and runs args[0] with `args`, stdout to `out` and stderr to `err`; returns the
+// child's pid. The child exits 99 when it cannot open the files, 98 when exec fails.
+inline pid_t spawn(std::vector<std::string> args, const std::string& out, const std::string& err) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    if (!freopen(out.c_str(), "w", stdout) || !freopen(err.c_str(), "w", stderr)) _exit(99);
+    std::vector<char*> argv;
+    for (std::string& a : args) argv.push_back(a.data());
+    argv.push_back(nullptr);
+    execv(argv[0], argv.data());
+    _exit(98);
+  }
+  return pid;
+}
+
+}  // namespace lancer::test

@@ -30,6 +30,14 @@ int run_info(const InfoOptions& opt, std::ostream& out, std::ostream& err) {
     out << "textures:   " << scene.textures.size() << " (" << scene.images.size() << " images)\n";
     out << "cameras:    " << scene.cameras.size() << "\n";
     out << "lights:     " << scene.lights.size() << " punctual\n";
+    if (scene.animation.animations == 0) {
+      out << "animation:  none\n";
+    } else {
+      std::snprintf(line, sizeof line,
+                    "animation:  %zu (the first: %zu channel(s), keyframes from %g to %g s; --frame-time poses it)\n",
+                    scene.animation.animations, scene.animation.channels, scene.animation.start, scene.animation.end);
+      out << line;
+    }
     std::snprintf(line, sizeof line, "bounds:     (%g, %g, %g) - (%g, %g, %g)\n", b.lo.x, b.lo.y, b.lo.z, b.hi.x,
                   b.hi.y, b.hi.z);
     out << line;

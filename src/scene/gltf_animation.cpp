@@ -2,6 +2,7 @@
 
 #include <tiny_gltf.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <limits>
@@ -21,6 +22,7 @@ struct NodePose {
   int node = -1;
   std::string path;
   std::vector<double> values;
+  double first_key = 0.0, last_key = 0.0;  // the channel's keyframe times
 };
 
 // The value channel `c` of animation 0 gives its node at `time`.
@@ -43,6 +45,8 @@ NodePose sample(const ModelRef& m, const tinygltf::Animation& a, std::size_t c, 
     if (!std::isfinite(times[k]) || (k > 0 && !(times[k] > times[k - 1])))
       throw SceneError(m.file, what + ": keyframe time " + std::to_string(k) + " (" + std::to_string(times[k]) +
                                    ") is not finite or not after the one before (glTF: times increase)");
+  pose.first_key = times.front();
+  pose.last_key = times.back();
   ChannelKeys channel;
   channel.times = times;
   channel.interpolation =
@@ -85,10 +89,12 @@ NodePose sample(const ModelRef& m, const tinygltf::Animation& a, std::size_t c, 
 
 }  // namespace
 
-void pose_animation(tinygltf::Model& model, const std::string& file, std::optional<double> time) {
+AnimationRange pose_animation(tinygltf::Model& model, const std::string& file, std::optional<double> time) {
+  AnimationRange range;
+  range.animations = model.animations.size();
   if (model.animations.empty()) {
     if (time) print_scene_warnings(file, "the file has no animation: --frame-time changes nothing");
-    return;
+    return range;
   }
   const ModelRef m{model, file};
   const tinygltf::Animation& a = model.animations[0];
@@ -100,6 +106,11 @@ void pose_animation(tinygltf::Model& model, const std::string& file, std::option
   const double t = time.value_or(-std::numeric_limits<double>::infinity());
   std::vector<NodePose> poses;
   for (std::size_t c = 0; c < a.channels.size(); ++c) poses.push_back(sample(m, a, c, t));
+  range.channels = poses.size();
+  for (std::size_t c = 0; c < poses.size(); ++c) {
+    range.start = c == 0 ? poses[c].first_key : std::min(range.start, poses[c].first_key);
+    range.end = c == 0 ? poses[c].last_key : std::max(range.end, poses[c].last_key);
+  }
   for (std::size_t c = 0; c < poses.size(); ++c) {
     const NodePose& p = poses[c];
     if (p.path.empty()) continue;
@@ -118,6 +129,7 @@ void pose_animation(tinygltf::Model& model, const std::string& file, std::option
     }
     (p.path == "translation" ? node.translation : p.path == "rotation" ? node.rotation : node.scale) = p.values;
   }
+  return range;
 }
 
 }  // namespace lancer::gltf

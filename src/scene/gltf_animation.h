@@ -6,6 +6,8 @@
 #include <optional>
 #include <string>
 
+#include "scene/scene.h"
+
 namespace tinygltf {
 class Model;
 }
@@ -20,7 +22,7 @@ namespace lancer::gltf {
 // animation is left as it is (with a warning when a time was given). A channel that targets
 // a node with a matrix (which glTF forbids) is skipped with a warning. Throws SceneError for
 // a malformed channel or sampler (times not finite or not increasing, outputs that do not
-// match the keyframes).
-void pose_animation(tinygltf::Model& model, const std::string& file, std::optional<double> time);
+// match the keyframes). Returns the animations' range (scene.h).
+AnimationRange pose_animation(tinygltf::Model& model, const std::string& file, std::optional<double> time);
 
 }  // namespace lancer::gltf

@@ -339,16 +339,20 @@ Scene read_gltf(const std::filesystem::path& path, int scene, std::optional<doub
   const std::string file = path.string();
   // The file's bytes are freed once parsed: tinygltf keeps its own copy of the buffers.
   tinygltf::Model model = load_model(read_whole_file(path, file), path, file);
-  gltf::pose_animation(model, file, frame_time);
-  return scene_from_model(model, file, scene);
+  const AnimationRange animation = gltf::pose_animation(model, file, frame_time);
+  Scene result = scene_from_model(model, file, scene);
+  result.animation = animation;
+  return result;
 }
 
 Scene read_gltf_bytes(std::span<const unsigned char> bytes, const std::filesystem::path& path, int scene,
                       std::optional<double> frame_time) {
   const std::string file = path.string();
   tinygltf::Model model = load_model(bytes, path, file);
-  gltf::pose_animation(model, file, frame_time);
-  return scene_from_model(model, file, scene);
+  const AnimationRange animation = gltf::pose_animation(model, file, frame_time);
+  Scene result = scene_from_model(model, file, scene);
+  result.animation = animation;
+  return result;
 }
 
 }  // namespace lancer

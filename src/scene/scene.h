@@ -164,6 +164,14 @@ enum TriangleAttrib : std::uint8_t {
   kHasColors = 16,
 };
 
+// A glTF file's animations, as far as lancer poses them: how many there are, and the
+// channels and keyframe times of the first (the one --frame-time samples).
+struct AnimationRange {
+  std::size_t animations = 0;
+  std::size_t channels = 0;
+  double start = 0.0, end = 0.0;  // seconds: the first and last keyframe of any channel
+};
+
 struct Scene {
   std::string source;  // file it came from, or the procedural scene's name
   // What the reader warned about while loading (load_scene), one line each, without the
@@ -190,6 +198,7 @@ struct Scene {
   std::vector<CameraDesc> cameras;
   std::vector<PunctualLight> lights;
   LoadStats stats;
+  AnimationRange animation;
 
   std::size_t triangle_count() const { return triangles.size(); }
   Bounds3 bounds() const { return triangles.bounds(); }

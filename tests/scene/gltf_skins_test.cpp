@@ -213,7 +213,13 @@ TEST_F(GltfSkins, FirstAnimationFrameSetsMorphWeightsAndTranslations) {
 TEST_F(GltfSkins, FrameTimePosesTheJointsAtThatTime) {
   const float s = std::sqrt(0.5f);
   GltfBuilder b = two_bone_strip();
+  EXPECT_EQ(load(b).animation.animations, 0u);
   animate(b, 0, "rotation", {0.5f, 2.0f}, {0, 0, s, s, 0, 0, 0, 1}, "VEC4", "LINEAR");
+  const AnimationRange range = load(b).animation;  // what lancer info shows
+  EXPECT_EQ(range.animations, 1u);
+  EXPECT_EQ(range.channels, 1u);
+  EXPECT_EQ(range.start, 0.5);
+  EXPECT_EQ(range.end, 2.0);
   // Joint 1 at (1, 0) turned by a about z: the tip's upper corner (2, 0.1) reaches
   // y = sin(a) + 0.1 cos(a).
   auto tip_y = [](double degrees) {

@@ -27,14 +27,6 @@ int positive_env(const char* name) {
 int mpirun_world_size() { return positive_env("OMPI_COMM_WORLD_SIZE"); }
 int mpirun_rank() { return positive_env("OMPI_COMM_WORLD_RANK"); }
 
-bool built_with_mpi() {
-#ifdef LANCER_WITH_MPI
-  return true;
-#else
-  return false;
-#endif
-}
-
 std::unique_ptr<Channel> open_mpi_channel() {
   const int world = mpirun_world_size();
   if (world <= 1) return nullptr;

@@ -14,9 +14,6 @@ int mpirun_world_size();
 // This process's rank under mpirun (OMPI_COMM_WORLD_RANK), or 0 when not under mpirun.
 int mpirun_rank();
 
-// Whether this lancer was built with Open MPI (it can take part in a distributed render).
-bool built_with_mpi();
-
 // Under mpirun with more than one rank: the MPI channel between them (MPI is initialised
 // here and finalised when it is destroyed). Otherwise null. Throws std::runtime_error under
 // mpirun when built without MPI (each copy would render the whole image) or when MPI cannot

@@ -35,7 +35,6 @@ class LocalWorker {
   LocalWorker(const LocalWorker&) = delete;
   LocalWorker& operator=(const LocalWorker&) = delete;
 
-  int threads() const { return threads_; }
   // Queues a unit; throws std::invalid_argument for a tile out of range.
   void push(UnitTask task);
   // A finished (or, after stop, partly finished) unit's result, if one is ready. Rethrows

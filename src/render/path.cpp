@@ -235,24 +235,14 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
   };
 
   // Coverage (render/coverage.h): where the surface is not there the ray goes on past it,
-  // and nothing else happens here. A BLEND surface's choice reads the roulette's value,
-  // which the roulette then reads rescaled to [0, 1) within the part that kept the surface,
-  // so that each use stays uniform and stratified.
-  float u_roulette = -1.0f;  // not drawn yet
-  // Beyond kMaxCrossings surfaces passed on one way, the ray stops at the surface it reached.
-  if (si.alpha < 1.0f && path.crossings < kMaxCrossings) {
-    bool through = !(si.alpha > 0.0f);
-    if (!through) {
-      const float u = sampler.get1(dims + kRouletteDimension);
-      through = u >= si.alpha;
-      u_roulette = std::min(u / si.alpha, 0x1.fffffep-1f);  // the quotient may round up to 1
-    }
-    if (through) {
-      path.travelled += hit.t * dir_length;
-      ++path.crossings;
-      go_on(dir, leave());
-      return true;
-    }
+  // and nothing else happens here. Beyond kMaxCrossings surfaces passed on one way, the ray
+  // stops at the surface it reached.
+  BounceChance chance(sampler, dims + kRouletteDimension);
+  if (si.alpha < 1.0f && path.crossings < kMaxCrossings && chance.passes(si.alpha)) {
+    path.travelled += hit.t * dir_length;
+    ++path.crossings;
+    go_on(dir, leave());
+    return true;
   }
 
   if (emits_toward(*si.material, si.front_face) && !is_black(si.emission) && !caustic) {
@@ -318,7 +308,7 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
     // threads): MSE -16 % for 7 % more time on the Cornell box, -9 % for 9 % with the spheres, -8 % for 5 % with depth
     // of field, -3 % for 5 % on the still life.
     const float survive = survival(max_component(beta));
-    if ((u_roulette >= 0.0f ? u_roulette : sampler.get1(dims + kRouletteDimension)) >= survive) return false;
+    if (chance.roulette() >= survive) return false;
     beta /= survive;
   }
   go_on(wi, leaf);

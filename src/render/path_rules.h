@@ -51,6 +51,30 @@ inline bool is_finite(const glm::vec3& v) { return std::isfinite(v.x) && std::is
 // component, relative to where it started).
 inline float survival(float throughput) { return std::max(kMinSurvival, std::min(1.0f, std::sqrt(throughput))); }
 
+// A bounce's coverage choice and its Russian roulette share one sample value (the bounce's
+// roulette dimension: kRouletteDimension after its first, or the photon walk's own): a
+// BLEND surface's choice reads it, and the roulette then reads it rescaled to [0, 1) within
+// the part that kept the surface, so each use stays uniform and stratified. One per bounce.
+class BounceChance {
+ public:
+  BounceChance(const SobolSampler& sampler, std::uint32_t dimension) : sampler_(sampler), dim_(dimension) {}
+  // Whether the ray goes on past a surface of coverage `alpha` (< 1; render/coverage.h):
+  // always where alpha is 0, else with probability 1 - alpha.
+  bool passes(float alpha) {
+    if (!(alpha > 0.0f)) return true;
+    const float u = sampler_.get1(dim_);
+    u_roulette_ = std::min(u / alpha, 0x1.fffffep-1f);  // the quotient may round up to 1
+    return u >= alpha;
+  }
+  // The roulette's value: the coverage choice's, rescaled, when it drew one.
+  float roulette() const { return u_roulette_ >= 0.0f ? u_roulette_ : sampler_.get1(dim_); }
+
+ private:
+  const SobolSampler& sampler_;
+  std::uint32_t dim_;
+  float u_roulette_ = -1.0f;  // not drawn yet
+};
+
 // Veach's power heuristic with beta = 2, the weight of the strategy with density `a`.
 inline float power_heuristic(float a, float b) {
   if (!(a > 0.0f)) return 0.0f;

@@ -96,20 +96,12 @@ void walk_photon(const Scene& scene, const Accelerator& accel, const LightEmissi
     const ShadingInputs si = evaluate_shading(scene, ray, hit);
     const std::uint32_t dims = sampler.dimension();
     sampler.skip(kBounceDimensions);
-    float u_roulette = -1.0f;
-    if (si.alpha < 1.0f && crossings < kMaxCrossings) {  // coverage: as the path tracer
-      bool through = !(si.alpha > 0.0f);
-      if (!through) {
-        const float u = sampler.get1(dims + kRouletteDimension);
-        through = u >= si.alpha;
-        u_roulette = std::min(u / si.alpha, 0x1.fffffep-1f);
-      }
-      if (through) {
-        if (bounces == 0) from_light += segment;
-        ++crossings;
-        ray = continue_past(scene, ray, hit);
-        continue;
-      }
+    path_rules::BounceChance chance(sampler, dims + kRouletteDimension);
+    if (si.alpha < 1.0f && crossings < kMaxCrossings && chance.passes(si.alpha)) {  // coverage: as the path tracer
+      if (bounces == 0) from_light += segment;
+      ++crossings;
+      ray = continue_past(scene, ray, hit);
+      continue;
     }
     if (bounces == 0 && emitted.range > 0.0f) {
       beta *= range_window(from_light + segment, emitted.range);
@@ -153,7 +145,7 @@ void walk_photon(const Scene& scene, const Accelerator& accel, const LightEmissi
     crossings = 0;
     if (++bounces >= kRouletteDepth) {
       const float survive = survival(max_component(beta) / start_power);
-      if ((u_roulette >= 0.0f ? u_roulette : sampler.get1(dims + kRouletteDimension)) >= survive) return;
+      if (chance.roulette() >= survive) return;
       beta /= survive;
     }
     ray = leaving_ray(scene, si, b);

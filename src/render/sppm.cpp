@@ -67,23 +67,15 @@ SppmIntegrator::CameraPath SppmIntegrator::camera_path(const Ray& camera_ray, co
     const std::uint32_t dims = sampler.dimension();
     sampler.skip(bounce_dimensions(light_samples_));
 
-    float u_roulette = -1.0f;
-    if (si.alpha < 1.0f && crossings < kMaxCrossings) {  // coverage: as path.cpp
-      bool through = !(si.alpha > 0.0f);
-      if (!through) {
-        const float u = sampler.get1(dims + kRouletteDimension);
-        through = u >= si.alpha;
-        u_roulette = std::min(u / si.alpha, 0x1.fffffep-1f);
-      }
-      if (through) {
-        travelled += segment;
-        distance += segment;
-        ++crossings;
-        ray = continue_past(scene_, ray, hit);
-        ++rays;
-        hit = accel_.intersect(ray);
-        continue;
-      }
+    BounceChance chance(sampler, dims + kRouletteDimension);
+    if (si.alpha < 1.0f && crossings < kMaxCrossings && chance.passes(si.alpha)) {  // coverage: as path.cpp
+      travelled += segment;
+      distance += segment;
+      ++crossings;
+      ray = continue_past(scene_, ray, hit);
+      ++rays;
+      hit = accel_.intersect(ray);
+      continue;
     }
     distance += segment;
 
@@ -154,7 +146,7 @@ SppmIntegrator::CameraPath SppmIntegrator::camera_path(const Ray& camera_ray, co
     crossings = 0;
     if (++bounces >= kRouletteDepth) {
       const float survive = survival(max_component(beta));
-      if ((u_roulette >= 0.0f ? u_roulette : sampler.get1(dims + kRouletteDimension)) >= survive) break;
+      if (chance.roulette() >= survive) break;
       beta /= survive;
     }
     ray = leaving_ray(scene_, si, bs->wi);

@@ -132,13 +132,7 @@ TEST(CausticMap, AgreesWithThePathTracerWhereItFindsTheCaustics) {
         test::over_seeds(kSeeds, [&](std::uint64_t seed) { return render(IntegratorKind::Path, seed); });
       const test::SeedStats photon =
         test::over_seeds(kSeeds, [&](std::uint64_t seed) { return render(IntegratorKind::Photon, seed); });
-    int resolved = 0;
-    for (std::size_t i = 0; i < path.mean.size(); ++i) {
-      const double tolerance = 5.0 * std::hypot(path.stderr_[i], photon.stderr_[i]);
-      EXPECT_NEAR(photon.mean[i], path.mean[i], tolerance)
-          << "max_depth " << max_depth << " block " << i / 3 << " channel " << i % 3;
-      resolved += path.mean[i] > 0.01 && tolerance < 0.05 * path.mean[i];
-    }
+    const int resolved = test::expect_same_block_means(path, photon, "max_depth " + std::to_string(max_depth));
     // Of 48: the black background's 9 aside, the test resolves differences of 5 % in most.
     EXPECT_GE(resolved, 27) << "max_depth " << max_depth;
   }

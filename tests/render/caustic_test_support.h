@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <numbers>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <glm/geometric.hpp>
@@ -103,6 +104,21 @@ SeedStats over_seeds(int seeds, Render render) {
     out.stderr_[i] = std::sqrt(var / seeds);
   }
   return out;
+}
+
+// Expects `other`'s block means within 5 combined standard errors of `reference`'s, each
+// failure labelled with `what`; returns how many resolve a difference of `resolution` (a
+// mean above 0.01 whose tolerance is below that fraction of it), so a test can require
+// that it could see one.
+inline int expect_same_block_means(const SeedStats& reference, const SeedStats& other, const std::string& what,
+                                   double resolution = 0.05) {
+  int resolved = 0;
+  for (std::size_t i = 0; i < reference.mean.size(); ++i) {
+    const double tolerance = 5.0 * std::hypot(reference.stderr_[i], other.stderr_[i]);
+    EXPECT_NEAR(other.mean[i], reference.mean[i], tolerance) << what << " block " << i / 3 << " channel " << i % 3;
+    resolved += reference.mean[i] > 0.01 && tolerance < resolution * reference.mean[i];
+  }
+  return resolved;
 }
 
 inline bool bitwise_equal(const ImageRGB& a, const ImageRGB& b) {

@@ -30,6 +30,7 @@
 namespace lancer {
 namespace {
 
+using test::expect_same_block_means;
 using test::over_seeds;
 using test::PaneCaustic;
 using test::SeedStats;
@@ -113,13 +114,8 @@ TEST(SppmHeavy, AgreesWithThePathTracerOnTheCornellBox) {
   const SeedStats sppm = over_seeds(kSeeds, [&](std::uint64_t seed) { return render(IntegratorKind::Sppm, seed); });
   // 48 comparisons, each off by 5 combined standard errors (t with about 10 degrees of
   // freedom) with probability 5e-4 by chance; the seeds are fixed, so the outcome is too.
-  int lit = 0;
-  for (std::size_t i = 0; i < path.mean.size(); ++i) {
-    const double tolerance = 5.0 * std::hypot(path.stderr_[i], sppm.stderr_[i]);
-    EXPECT_NEAR(sppm.mean[i], path.mean[i], tolerance) << "block " << i / 3 << " channel " << i % 3;
-    // The noise is small against the signal: the test resolves differences of 2 %.
-    lit += path.mean[i] > 0.01 && tolerance < 0.02 * path.mean[i];
-  }
+  // The noise is small against the signal: the test resolves differences of 2 %.
+  const int lit = expect_same_block_means(path, sppm, "radius 0.01:", 0.02);
   EXPECT_GE(lit, 30);  // of 48: the dark channels of the coloured walls aside
 }
 
@@ -186,13 +182,7 @@ TEST(SppmHeavy, AgreesWithThePathTracerOnCoatsCausticsAndDepthLimits) {
     };
     const SeedStats path = over_seeds(kSeeds, [&](std::uint64_t seed) { return render(IntegratorKind::Path, seed); });
     const SeedStats sppm = over_seeds(kSeeds, [&](std::uint64_t seed) { return render(IntegratorKind::Sppm, seed); });
-    int resolved = 0;
-    for (std::size_t i = 0; i < path.mean.size(); ++i) {
-      const double tolerance = 5.0 * std::hypot(path.stderr_[i], sppm.stderr_[i]);
-      EXPECT_NEAR(sppm.mean[i], path.mean[i], tolerance)
-          << "max_depth " << max_depth << " block " << i / 3 << " channel " << i % 3;
-      resolved += path.mean[i] > 0.01 && tolerance < 0.05 * path.mean[i];
-    }
+    const int resolved = expect_same_block_means(path, sppm, "max_depth " + std::to_string(max_depth));
     EXPECT_GE(resolved, 27) << "max_depth " << max_depth;
   }
 }

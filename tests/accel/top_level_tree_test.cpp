@@ -19,8 +19,10 @@ std::vector<Bounds3> random_boxes(std::size_t n, std::uint64_t seed, float world
   TestRng rng(seed);
   std::vector<Bounds3> boxes;
   for (std::size_t i = 0; i < n; ++i) {
-    const glm::vec3 lo(rng.uniform(-world, world), rng.uniform(-world, world), flat_z ? 0.0f : rng.uniform(-world, world));
-    glm::vec3 size(rng.uniform(0.0f, max_size), rng.uniform(0.0f, max_size), flat_z ? 0.0f : rng.uniform(0.0f, max_size));
+    const float z = flat_z ? 0.0f : rng.uniform(-world, world);
+    const glm::vec3 lo(rng.uniform(-world, world), rng.uniform(-world, world), z);
+    const float depth = flat_z ? 0.0f : rng.uniform(0.0f, max_size);
+    const glm::vec3 size(rng.uniform(0.0f, max_size), rng.uniform(0.0f, max_size), depth);
     boxes.push_back({lo, lo + size});
   }
   return boxes;

@@ -57,7 +57,8 @@ class TwoLevelPacket : public KdIsaTest {
           << " prim " << hits[i].prim << " t " << hits[i].t << ", single ray instance " << single.instance << " prim "
           << single.prim << " t " << single.t;
       ASSERT_TRUE(same_bits(single, brute_->intersect(rays[i]))) << "lane " << i << ", " << describe(rays[i]);
-      ASSERT_EQ(blocked[i], kd_->occluded(rays[i])) << "occlusion lane " << i << " of " << n << ", " << describe(rays[i]);
+      ASSERT_EQ(blocked[i], kd_->occluded(rays[i]))
+          << "occlusion lane " << i << " of " << n << ", " << describe(rays[i]);
       ASSERT_EQ(blocked[i], brute_->occluded(rays[i])) << "occlusion lane " << i << ", " << describe(rays[i]);
       hit_count += hits[i].valid() ? 1 : 0;
       cov.occluded += blocked[i] ? 1 : 0;

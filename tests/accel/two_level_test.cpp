@@ -122,6 +122,111 @@ TEST(TwoLevelWorld, MatchesTheFlattenedSceneWithinTolerance) {
   EXPECT_EQ(instances_hit, s.geometry.instances.size() - 1) << "every instance but the losing twin should be hit";
 }
 
+// The tie rule whatever the visit order: two instances share a quad in the plane x = 0
+// (the same float vertices, identity transforms: bit-identical t), instance 0 reaching to
+// x = -4 and instance 1 to x = +4, so the top level gives instance 1 a leaf of its own
+// beyond x = 0 (the boxes' margins overlap around the quad). Rays going -x visit instance 1
+// first, rays going +x instance 0; instance 0 must win both ways, in single rays and in
+// packets.
+TEST_P(TwoLevel, TiesGoToTheLowerInstanceInAnyVisitOrder) {
+  InstancedScene s;
+  auto quad_and = [&](float x) {
+    const auto first = static_cast<std::uint32_t>(s.tris.size());
+    s.tris.push_back({0, -1, -1}, {0, 1, -1}, {0, 1, 1});
+    s.tris.push_back({0, -1, -1}, {0, 1, 1}, {0, -1, 1});
+    s.tris.push_back({x, 5, -1}, {x, 6, -1}, {x, 5, 1});  // off the rays, widening the box
+    return MeshRange{first, 3};
+  };
+  s.geometry.meshes = {quad_and(-4.0f), quad_and(4.0f)};
+  s.geometry.instances = {make_instance(0, glm::dmat3(1.0), {0, 0, 0}), make_instance(1, glm::dmat3(1.0), {0, 0, 0})};
+  for (const char* bottom : {"kdtree", "brute"}) {
+    const TwoLevelAccelerator accel(s.tris, s.geometry, bottom, {}, isa());
+    bool apart = false;  // some leaf lists instance 1 alone
+    for (const KdNode& n : accel.top_level().nodes())
+      apart = apart || (n.is_leaf() && n.count() == 1 && accel.top_level().items()[n.first_slot()] == 1);
+    ASSERT_TRUE(apart) << "the top level should give instance 1 a leaf of its own";
+    TestRng rng(isa_seed() + 5);
+    std::vector<Ray> rays;
+    for (int i = 0; i < 64; ++i) {
+      Ray r;
+      const float sign = i < 32 ? -1.0f : 1.0f;
+      r.org = {-10.0f * sign, rng.uniform(-0.4f, 0.4f), rng.uniform(-0.4f, 0.4f)};
+      r.dir = {sign, 0.05f * rng.uniform(-1.0f, 1.0f), 0.05f * rng.uniform(-1.0f, 1.0f)};
+      rays.push_back(r);
+    }
+    std::vector<Hit> packet(rays.size());
+    accel.intersect_packet(rays.data(), packet.data(), 32);  // the -x rays, one coherent packet
+    accel.intersect_packet(rays.data() + 32, packet.data() + 32, 32);
+    for (std::size_t i = 0; i < rays.size(); ++i) {
+      const Hit h = accel.intersect(rays[i]);
+      ASSERT_TRUE(h.valid()) << describe(rays[i]);
+      EXPECT_EQ(h.instance, 0u) << bottom << ", " << describe(rays[i]);
+      EXPECT_LT(h.prim, 2u) << "the shared quad";
+      EXPECT_TRUE(same_bits(packet[i], h)) << bottom << " packet lane " << i;
+    }
+  }
+}
+
+// Where the top level's margins matter: axis-aligned instances (scaled by factors no float
+// holds exactly, some mirrored, some with axes swapped) and rotated cubes put vertices on
+// the faces of their world boxes, and rays lying in the plane of a world vertex (or a few
+// ulps beside it) graze those faces, some from far away (where rounding the origin into
+// object space moves the ray most). Whether the bottom tree sees such a ray hit depends on the
+// rounding of ray_to_object; the top level must visit the instance whenever it does.
+TEST_P(TwoLevel, RaysGrazingInstanceBoxesMatchTheDefinition) {
+  InstancedScene s = random_instanced_scene(isa_seed() + 31, 0);
+  s.geometry.instances.clear();
+  Scene cube;  // mesh 3: its corners are the extreme points of its world box in any rotation
+  append_box(cube, {{-1, -1, -1}, {1, 1, 1}}, 0);
+  s.geometry.meshes.push_back(
+      {static_cast<std::uint32_t>(s.tris.size()), static_cast<std::uint32_t>(cube.triangles.size())});
+  for (std::size_t i = 0; i < cube.triangles.size(); ++i)
+    s.tris.push_back(cube.triangles.vertex(i, 0), cube.triangles.vertex(i, 1), cube.triangles.vertex(i, 2));
+  TestRng rng(isa_seed() + 32);
+  for (std::uint32_t j = 0; j < 16; ++j) {
+    if (j % 4 == 3) {  // a rotated, scaled cube
+      const glm::dvec3 scale(rng.uniform(0.3f, 1.7f), rng.uniform(0.3f, 1.7f), rng.uniform(0.3f, 1.7f));
+      const glm::dvec3 at(rng.uniform(-3.0f, 3.0f), rng.uniform(-3.0f, 3.0f), rng.uniform(-3.0f, 3.0f));
+      s.geometry.instances.push_back(make_instance(3, random_linear(rng, scale), at));
+      continue;
+    }
+    glm::dmat3 m(0.0);
+    const int swap = j % 3 == 2 ? 1 : 0;  // x and y exchanged in every third instance
+    for (int a = 0; a < 3; ++a) {
+      const double scale = rng.uniform(0.3f, 1.7f) * (rng.below(4) == 0 ? -1.0 : 1.0);
+      m[a][a < 2 ? (a + swap) % 2 : 2] = scale;
+    }
+    const glm::dvec3 at(rng.uniform(-3.0f, 3.0f), rng.uniform(-3.0f, 3.0f), rng.uniform(-3.0f, 3.0f));
+    s.geometry.instances.push_back(make_instance(j % 2, m, at));
+  }
+  const TwoLevelAccelerator accel(s.tris, s.geometry, "kdtree", {}, isa());
+  const InstanceScan scan(s);
+  std::size_t hits = 0;
+  constexpr std::size_t kRays = 6000;
+  for (std::size_t i = 0; i < kRays; ++i) {
+    const auto j = static_cast<std::uint32_t>(i % s.geometry.instances.size());
+    const Instance& inst = s.geometry.instances[j];
+    const MeshRange mesh = s.geometry.meshes[inst.mesh];
+    const glm::vec3 v = inst.to_world.point(s.tris.vertex(mesh.first + rng.below(mesh.count), int(rng.below(3))));
+    const int axis = static_cast<int>(rng.below(3));
+    Ray r;
+    r.org = v + (i % 2 ? 4.0f : 4000.0f) * rng.direction();  // far origins round ray_to_object coarsely
+    r.org[axis] = v[axis];
+    for (int k = static_cast<int>(rng.below(5)) - 2; k != 0; k += k > 0 ? -1 : 1)
+      r.org[axis] = std::nextafter(r.org[axis], k > 0 ? kInfinity : -kInfinity);
+    r.dir = v - r.org;
+    r.dir[axis] = 0.0f;
+    if (r.dir == glm::vec3(0.0f)) continue;
+    const Hit expected = scan.intersect(r);
+    ASSERT_TRUE(same_bits(accel.intersect(r), expected))
+        << describe(r) << "\n two-level: " << describe_hit(accel.intersect(r)) << "\n definition: "
+        << describe_hit(expected);
+    ASSERT_EQ(accel.occluded(r), scan.occluded(r)) << describe(r);
+    hits += expected.valid() ? 1 : 0;
+  }
+  EXPECT_GT(hits, kRays / 10);
+}
+
 // (e) Invalid input is refused with std::invalid_argument.
 TEST(TwoLevelInput, InvalidInputThrows) {
   const InstancedScene good = random_instanced_scene(5, 0);

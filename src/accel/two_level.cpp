@@ -64,7 +64,8 @@ void validate(const TriangleSoA& tris, const InstancedGeometry& geometry) {
     if (!finite(inst.to_world) || !finite(inst.to_object))
       throw std::invalid_argument(which + " has a transform that is not finite");
     const double l = norm_inf(inst.to_world.linear), r = norm_inf(inst.to_object.linear);
-    if (!(l > 0.0) || !(r > 0.0) || l > kMaxNorm || r > kMaxNorm || glm::determinant(inst.to_world.linear) == 0.0f)
+    const double det = glm::determinant(glm::dmat3(inst.to_world.linear));
+    if (!(l > 0.0) || !(r > 0.0) || l > kMaxNorm || r > kMaxNorm || det == 0.0)
       throw std::invalid_argument(which + " has a singular transform or one scaling by more than 2^40");
   }
 }
@@ -189,9 +190,13 @@ TwoLevelAccelerator::TwoLevelAccelerator(const TriangleSoA& tris, const Instance
   instances_ = geometry.instances;
   std::vector<Bounds3> boxes(instances_.size());
   for (std::size_t i = 0; i < instances_.size(); ++i) {
+    const Bounds3& object = object_boxes[instances_[i].mesh];
     double beta = 0.0;
-    boxes[i] = world_box(instances_[i], object_boxes[instances_[i].mesh], beta);
+    boxes[i] = world_box(instances_[i], object, beta);
     beta_ = std::fmax(beta_, beta);
+    const glm::vec3 e = object.extent();
+    const double largest = std::fmax(e.x, std::fmax(e.y, e.z));
+    extent_ = std::fmax(extent_, largest * norm_inf(instances_[i].to_world.linear));
   }
   top_ = TopLevelTree(boxes);
   build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
@@ -217,7 +222,7 @@ void TwoLevelAccelerator::visit(std::uint32_t i, const Ray& ray, Hit& best) cons
 }
 
 Hit TwoLevelAccelerator::intersect(const Ray& ray) const {
-  const TopRay tr = setup_top_ray(ray, top_.bounds(), beta_);
+  const TopRay tr = setup_top_ray(ray, top_.bounds(), beta_, extent_);
   Hit best;
   if (tr.plan == TopPlan::Scan) {
     for (std::uint32_t i = 0; i < instances_.size(); ++i) visit(i, ray, best);
@@ -233,7 +238,7 @@ Hit TwoLevelAccelerator::intersect(const Ray& ray) const {
   while (sp > 0) {
     const Entry e = stack[--sp];
     // Entries are not sorted by entry distance (fat intervals overlap), so skip, not stop.
-    if (best.valid() && double(best.t) < lowest_hit_in_cell(e.tmin)) continue;
+    if (best.valid() && double(best.t) < lowest_hit_in_cell(tr, e.tmin)) continue;
     const KdNode leaf = descend(tr, nodes, e, stack, sp);
     for (std::uint32_t k = 0; k < leaf.count(); ++k) visit(items[leaf.first_slot() + k], ray, best);
   }
@@ -241,7 +246,7 @@ Hit TwoLevelAccelerator::intersect(const Ray& ray) const {
 }
 
 bool TwoLevelAccelerator::occluded(const Ray& ray) const {
-  const TopRay tr = setup_top_ray(ray, top_.bounds(), beta_);
+  const TopRay tr = setup_top_ray(ray, top_.bounds(), beta_, extent_);
   auto blocked_by = [&](std::uint32_t i) {
     const Instance& inst = instances_[i];
     return bottoms_[inst.mesh]->occluded(ray_to_object(inst, ray));

@@ -69,7 +69,8 @@ class TwoLevelAccelerator final : public Accelerator {
   std::vector<std::unique_ptr<Accelerator>> bottoms_;  // per mesh, null when no instance draws it
   std::vector<std::unique_ptr<TriangleSoA>> kept_;     // the meshes BruteForce bottoms refer to
   TopLevelTree top_;
-  double beta_ = 0.0;  // the fat ray's radius per unit of |org| (two_level_ray.h)
+  double beta_ = 0.0;    // the fat ray's radius per unit of |org| (two_level_ray.h)
+  double extent_ = 0.0;  // the largest mesh extent times its to_world norm (two_level_ray.h)
   std::string_view bottom_name_;
   double build_ms_ = 0.0;
 };

@@ -38,10 +38,10 @@ struct PacketSetup {
   bool coherent = true;
 };
 
-void setup_packet(const Ray* rays, int count, const Bounds3& root, double beta, PacketSetup& p) {
+void setup_packet(const Ray* rays, int count, const Bounds3& root, double beta, double extent, PacketSetup& p) {
   bool pos[3] = {false, false, false}, neg[3] = {false, false, false};
   for (int k = 0; k < count; ++k) {
-    p.rays[k] = setup_top_ray(rays[k], root, beta);
+    p.rays[k] = setup_top_ray(rays[k], root, beta, extent);
     const std::uint64_t bit = std::uint64_t(1) << k;
     if (p.rays[k].plan == TopPlan::Scan) p.scan |= bit;
     if (p.rays[k].plan != TopPlan::Traverse) continue;
@@ -118,7 +118,7 @@ void TwoLevelAccelerator::occluded_packet(const Ray* rays, bool* occluded, int c
 
 void TwoLevelAccelerator::intersect_packet64(const Ray* rays, Hit* hits, int count) const {
   PacketSetup p;
-  setup_packet(rays, count, top_.bounds(), beta_, p);
+  setup_packet(rays, count, top_.bounds(), beta_, extent_, p);
   for (int k = 0; k < count; ++k) hits[k] = Hit{};
   const std::uint64_t single = p.coherent ? p.scan : (p.scan | p.active);
   for (std::uint64_t m = single; m != 0; m &= m - 1) hits[std::countr_zero(m)] = intersect(rays[std::countr_zero(m)]);
@@ -143,7 +143,7 @@ void TwoLevelAccelerator::intersect_packet64(const Ray* rays, Hit* hits, int cou
     // Lanes whose best hit lies before this cell can gain nothing in it.
     for (std::uint64_t m = stack.mask[sp]; m != 0; m &= m - 1) {
       const int k = std::countr_zero(m);
-      if (hits[k].valid() && double(hits[k].t) < lowest_hit_in_cell(stack.tmin[sp][k])) continue;
+      if (hits[k].valid() && double(hits[k].t) < lowest_hit_in_cell(p.rays[k], stack.tmin[sp][k])) continue;
       mask |= std::uint64_t(1) << k;
       tmin[k] = stack.tmin[sp][k];
       tmax[k] = stack.tmax[sp][k];
@@ -175,7 +175,7 @@ void TwoLevelAccelerator::intersect_packet64(const Ray* rays, Hit* hits, int cou
 
 void TwoLevelAccelerator::occluded_packet64(const Ray* rays, bool* occluded, int count) const {
   PacketSetup p;
-  setup_packet(rays, count, top_.bounds(), beta_, p);
+  setup_packet(rays, count, top_.bounds(), beta_, extent_, p);
   for (int k = 0; k < count; ++k) occluded[k] = false;
   const std::uint64_t single = p.coherent ? p.scan : (p.scan | p.active);
   for (std::uint64_t m = single; m != 0; m &= m - 1)

@@ -12,11 +12,15 @@
 // u = 2^-24, at most 6u L (R (|org| + t*|dir|) + 2|c|), and t*|dir| <= |org| + S where S
 // bounds the world box's coordinates. So the world ray passes within
 //   alpha + beta |org|,  alpha = 2^-19 L (R S + 2|c|),  beta = 2^-18 L R
-// (a factor 5 above the bound) of the instance's world box, at a parameter within 2^-16 |t|
-// of the reported t. The build widens each world box by alpha (two_level.cpp); each ray is
-// traversed as a "fat" ray: within eps = beta |org| of a split plane it visits both sides
-// (plane distances widened by eps / |dir[axis]|), and it skips a cell only when its best t
-// lies below the cell's entry by more than kTopRelativeSlack (far above 2^-16).
+// (a factor 5 above the bound) of the instance's world box, at a parameter within
+// 2^-16 (|t| + E / max|dir'|) of the reported t, E the mesh's extent and dir' the
+// direction in object space (kd_traverse_setup.h); max|dir'| >= max|dir| / L. The build
+// widens each world box by alpha (two_level.cpp). Each ray is traversed as a "fat" ray:
+// within eps = beta |org| of a split plane it visits both sides (plane distances widened
+// by eps / |dir[axis]|); its range [tnear, tfar] is widened by t_slack(t) and it skips a
+// cell only when its best t lies below the cell's entry by more than t_slack(entry), where
+//   t_slack(t) = kTopRelativeSlack (|t| + max(E L) / max|dir|),
+// the maximum over the instances, 16 times the bottom trees' own slack.
 #pragma once
 
 #include <cmath>
@@ -47,16 +51,20 @@ struct TopRay {
   double inv_dir[3] = {0, 0, 0};
   double slack[3] = {0, 0, 0};  // eps / |dir[axis]|: the fat ray's parameter margin at a plane
   double eps = 0.0;             // the fat ray's radius
+  double t_abs = 0.0;           // t_slack's absolute part
   bool parallel[3] = {false, false, false};  // dir[axis] == 0
   bool negative[3] = {false, false, false};  // dir[axis] < 0: the right child comes first
   double tmin = 0.0, tmax = 0.0;             // the ray's range within the widened root box
 };
 
 // Below this a hit at t cannot come from a cell entered at `entry` (or later).
-inline double lowest_hit_in_cell(double entry) { return entry - std::fabs(entry) * kTopRelativeSlack; }
+inline double lowest_hit_in_cell(const TopRay& tr, double entry) {
+  return entry - std::fabs(entry) * kTopRelativeSlack - tr.t_abs;
+}
 
-// `beta` as above (the largest over the instances); `root` the union of the widened boxes.
-inline TopRay setup_top_ray(const Ray& ray, const Bounds3& root, double beta) {
+// `beta` and `extent` (max E L) as above, the largest over the instances; `root` the union
+// of the widened boxes.
+inline TopRay setup_top_ray(const Ray& ray, const Bounds3& root, double beta, double extent) {
   TopRay tr;
   double org_norm = 0.0, dir_norm = 0.0;
   for (int a = 0; a < 3; ++a) {
@@ -75,9 +83,10 @@ inline TopRay setup_top_ray(const Ray& ray, const Bounds3& root, double beta) {
   if (root.empty()) return tr;  // Miss
 
   tr.eps = beta * org_norm;
+  tr.t_abs = kTopRelativeSlack * extent / dir_norm;
   double t0 = double(ray.tnear), t1 = double(ray.tfar);
-  t0 -= std::fabs(t0) * kTopRelativeSlack;  // a hit reported at tnear may lie just before it
-  if (std::isfinite(t1)) t1 += std::fabs(t1) * kTopRelativeSlack;
+  t0 -= std::fabs(t0) * kTopRelativeSlack + tr.t_abs;  // a hit reported at tnear may lie just before it
+  if (std::isfinite(t1)) t1 += std::fabs(t1) * kTopRelativeSlack + tr.t_abs;
   for (int a = 0; a < 3; ++a) {
     const double o = ray.org[a], d = ray.dir[a];
     const double lo = double(root.lo[a]) - tr.eps, hi = double(root.hi[a]) + tr.eps;

@@ -7,6 +7,7 @@
 
 #include <glm/common.hpp>
 #include <glm/matrix.hpp>
+#include <tbb/parallel_for.h>
 
 #include "accel/brute_force.h"
 #include "accel/kd_tree.h"
@@ -173,19 +174,22 @@ TwoLevelAccelerator::TwoLevelAccelerator(const TriangleSoA& tris, const Instance
   for (const Instance& inst : geometry.instances) used[inst.mesh] = true;
   mesh_first_.resize(mesh_count);
   bottoms_.resize(mesh_count);
+  kept_.resize(mesh_count);
   std::vector<Bounds3> object_boxes(mesh_count);
-  for (std::size_t m = 0; m < mesh_count; ++m) {
-    mesh_first_[m] = geometry.meshes[m].first;
-    if (!used[m]) continue;
+  for (std::size_t m = 0; m < mesh_count; ++m) mesh_first_[m] = geometry.meshes[m].first;
+  // One mesh per task: each writes only its own slots, and every tree is the same for any
+  // thread count, so the result is too.
+  tbb::parallel_for(std::size_t(0), mesh_count, [&](std::size_t m) {
+    if (!used[m]) return;
     auto local = std::make_unique<TriangleSoA>(copy_mesh(tris, geometry.meshes[m]));
     object_boxes[m] = finite_bounds(*local);
     if (bottom_name_ == "kdtree") {
       bottoms_[m] = std::make_unique<KdTree>(*local, kd, isa);
     } else {
       bottoms_[m] = std::make_unique<BruteForce>(*local);
-      kept_.push_back(std::move(local));
+      kept_[m] = std::move(local);
     }
-  }
+  });
 
   instances_ = geometry.instances;
   std::vector<Bounds3> boxes(instances_.size());
@@ -278,7 +282,9 @@ std::size_t TwoLevelAccelerator::memory_bytes() const {
                       bottoms_.capacity() * sizeof(std::unique_ptr<Accelerator>);
   for (const auto& b : bottoms_)
     if (b) bytes += b->memory_bytes();
-  for (const auto& t : kept_) bytes += 9 * t->size() * sizeof(float);
+  bytes += kept_.capacity() * sizeof(std::unique_ptr<TriangleSoA>);
+  for (const auto& t : kept_)
+    if (t) bytes += 9 * t->size() * sizeof(float);
   return bytes;
 }
 

@@ -148,6 +148,46 @@ TEST_P(TwoLevelPacket, IncoherentAndPartialPackets) {
   EXPECT_GT(cov.mixed_packets, 0u);
 }
 
+// A deep top level: 3,000 small rotated boxes scattered through a volume, so packets use
+// many stack levels and leaves; packets against single rays, and a sample against the
+// definition.
+TEST_P(TwoLevelPacket, ManyInstancesDeepTopLevel) {
+  InstancedScene s;
+  Scene cube;
+  append_box(cube, {{-1, -1, -1}, {1, 1, 1}}, 0);
+  s.tris = cube.triangles;
+  s.geometry.meshes = {{0, static_cast<std::uint32_t>(s.tris.size())}};
+  TestRng rng(isa_seed() + 41);
+  for (int i = 0; i < 3000; ++i) {
+    const glm::dvec3 scale(rng.uniform(0.05f, 0.3f), rng.uniform(0.05f, 0.3f), rng.uniform(0.05f, 0.3f));
+    const glm::dvec3 at(rng.uniform(-10.0f, 10.0f), rng.uniform(-10.0f, 10.0f), rng.uniform(-10.0f, 10.0f));
+    s.geometry.instances.push_back(make_instance(0, random_linear(rng, scale), at));
+  }
+  const TwoLevelAccelerator accel(s.tris, s.geometry, "kdtree", {}, isa());
+  ASSERT_GT(accel.top_level().nodes().size(), 1000u) << "a tree at least 10 levels deep";
+  const InstanceScan scan(s);
+  const auto tiles = camera_tiles(Pinhole::looking_at({3.0f, 4.0f, 25.0f}, {0, 0, 0}, {0, 1, 0}, 60.0f, 64), 64, 64);
+  std::size_t hits = 0, rays = 0;
+  for (std::size_t t = 0; t < tiles.size(); ++t) {
+    std::vector<Hit> packet(64);
+    std::unique_ptr<bool[]> blocked(new bool[64]);
+    accel.intersect_packet(tiles[t].data(), packet.data(), 64);
+    accel.occluded_packet(tiles[t].data(), blocked.get(), 64);
+    for (int i = 0; i < 64; ++i) {
+      const Hit single = accel.intersect(tiles[t][i]);
+      ASSERT_TRUE(same_bits(packet[i], single)) << "tile " << t << " lane " << i << ", " << describe(tiles[t][i]);
+      ASSERT_EQ(blocked[i], accel.occluded(tiles[t][i])) << "tile " << t << " lane " << i;
+      if (t % 8 == 0 && i % 8 == 0) {
+        ASSERT_TRUE(same_bits(single, scan.intersect(tiles[t][i]))) << describe(tiles[t][i]);
+      }
+      hits += single.valid() ? 1 : 0;
+      ++rays;
+    }
+  }
+  EXPECT_GT(hits, rays / 10);
+  EXPECT_LT(hits, rays) << "some rays should pass between the boxes";
+}
+
 INSTANTIATE_TEST_SUITE_P(AllIsas, TwoLevelPacket, ::testing::ValuesIn(kd_test_isas()), kd_isa_param_name);
 
 }  // namespace

@@ -27,6 +27,7 @@ struct Split {
   int axis = -1;
   float pos = 0.0f;
   double cost = 0.0;
+  std::size_t left_count = 0, right_count = 0;
 };
 
 class Builder {
@@ -36,12 +37,11 @@ class Builder {
 
   void build(std::uint32_t node, const Bounds3& cell, EventLists events, std::size_t count, int depth) {
     const Split split = depth < depth_bound_ && count > 1 ? best_split(cell, events, count) : Split{};
-    if (split.axis < 0) return make_leaf(node, events[0], count);
+    if (split.axis < 0) return make_leaf(node, events[0]);
 
     EventLists left, right;
     classify_and_split(split, events, left, right);
     for (auto& list : events) std::vector<Event>().swap(list);  // free the parent's lists before recursing
-    const std::size_t left_count = boxes_in(left[0]), right_count = boxes_in(right[0]);
     Bounds3 left_cell = cell, right_cell = cell;
     left_cell.hi[split.axis] = split.pos;
     right_cell.lo[split.axis] = split.pos;
@@ -50,8 +50,8 @@ class Builder {
     if (left_child + 2 > kKdMaxOffset) throw std::length_error("top-level tree: too many nodes");
     nodes.resize(nodes.size() + 2);
     nodes[node] = KdNode::inner(split.axis, split.pos, left_child);
-    build(left_child, left_cell, std::move(left), left_count, depth + 1);
-    build(left_child + 1, right_cell, std::move(right), right_count, depth + 1);
+    build(left_child, left_cell, std::move(left), split.left_count, depth + 1);
+    build(left_child + 1, right_cell, std::move(right), split.right_count, depth + 1);
   }
 
   std::vector<KdNode> nodes;
@@ -59,19 +59,13 @@ class Builder {
 
  private:
   // Each box has exactly one start or flat event per axis.
-  static std::size_t boxes_in(const std::vector<Event>& list) {
-    std::size_t n = 0;
-    for (const Event& e : list) n += e.type != kEnd ? 1 : 0;
-    return n;
-  }
-
-  void make_leaf(std::uint32_t node, const std::vector<Event>& list, std::size_t count) {
+  void make_leaf(std::uint32_t node, const std::vector<Event>& list) {
     const std::size_t first = items.size();
-    if (first + count > kKdMaxOffset) throw std::length_error("top-level tree: too many leaf references");
     for (const Event& e : list)
       if (e.type != kEnd) items.push_back(e.box);
+    if (items.size() > kKdMaxOffset) throw std::length_error("top-level tree: too many leaf references");
     std::sort(items.begin() + static_cast<std::ptrdiff_t>(first), items.end());
-    nodes[node] = KdNode::leaf(static_cast<std::uint32_t>(first), static_cast<std::uint32_t>(count));
+    nodes[node] = KdNode::leaf(static_cast<std::uint32_t>(first), static_cast<std::uint32_t>(items.size() - first));
   }
 
   // SAH over the box edges strictly inside the cell; no split when none beats a leaf.
@@ -105,7 +99,7 @@ class Builder {
         const double pr = (by_area ? area(er) : er.x + er.y + er.z) / whole;
         double cost = options_.traversal_cost + options_.visit_cost * (pl * double(nl) + pr * double(nr));
         if (nl == 0 || nr == 0) cost *= options_.empty_space_factor;
-        if (cost < best.cost) best = {axis, p, cost};
+        if (cost < best.cost) best = {axis, p, cost, nl, nr};
       }
     }
     return best;
@@ -131,21 +125,20 @@ class Builder {
       side_[e.box] = static_cast<std::uint8_t>((to_left ? 1 : 0) | (to_right ? 2 : 0));
     }
     for (int k = 0; k < 3; ++k) {
-      std::vector<Event> moved_left, moved_right;
+      left[k].reserve(2 * split.left_count);
+      right[k].reserve(2 * split.right_count);
+    }
+    for (const Event& e : events[a])  // the straddlers' starts, moved onto the plane, come first on the right
+      if (e.type == kStart && (side_[e.box] & 2) && lo_[e.box] < p) right[a].push_back({p, e.box, kStart});
+    for (int k = 0; k < 3; ++k) {
       for (const Event& e : events[k]) {
         const std::uint8_t s = side_[e.box];
-        if (s & 1) {
-          if (k == a && e.type == kEnd && hi_[e.box] > p) moved_left.push_back({p, e.box, kEnd});
-          else left[k].push_back(e);
-        }
-        if (s & 2) {
-          if (k == a && e.type == kStart && lo_[e.box] < p) moved_right.push_back({p, e.box, kStart});
-          else right[k].push_back(e);
-        }
+        if ((s & 1) && !(k == a && e.type == kEnd && hi_[e.box] > p)) left[k].push_back(e);
+        if ((s & 2) && !(k == a && e.type == kStart && lo_[e.box] < p)) right[k].push_back(e);
       }
-      left[k].insert(left[k].end(), moved_left.begin(), moved_left.end());
-      right[k].insert(right[k].begin(), moved_right.begin(), moved_right.end());
     }
+    for (const Event& e : events[a])  // and their ends come last on the left
+      if (e.type == kEnd && (side_[e.box] & 1) && hi_[e.box] > p) left[a].push_back({p, e.box, kEnd});
   }
 
   TopLevelBuildOptions options_;

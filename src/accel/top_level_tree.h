@@ -10,9 +10,11 @@
 // pointer order, so the tree is the same on every run and for every thread count.
 //
 // Invariants: nodes[0] is the root; the layout is KdNode's (children side by side, a leaf's
-// first_slot() indexes items()); each leaf lists its boxes in ascending index; a box is in
-// every leaf whose closed cell it meets with positive overlap, or, for a box flat on a split
-// plane, in the left one. Boxes with a NaN coordinate or empty boxes are left out.
+// first_slot() indexes items()); each leaf lists its boxes in ascending index; at every
+// split a box goes to each side it reaches past the plane (both when it straddles it), and
+// a box lying flat in the plane goes left, so every point of a box lies in the closed cell
+// of some leaf listing it. Empty boxes and boxes with a coordinate that is not finite are
+// left out. The depth is at most kTopLevelMaxDepth.
 #pragma once
 
 #include <cstddef>

@@ -5,17 +5,17 @@
 //
 // Why the top level cannot skip an instance that holds the answer. An instance's hit is
 // the bottom tree's answer for r' = ray_to_object(inst, ray): a point q on a triangle of
-// the mesh (inside its object box B) at parameter t* of r', reported as t within a relative
-// 2^-16 of t* (kd_traverse-inl.h). The world ray's point at t* differs from to_world(q) only
-// by the rounding of r' and of to_object (the inverse of to_world, rounded): with
-// infinity norms, L = |to_world.linear|, R = |to_object.linear|, c = to_object.offset and
-// u = 2^-24, at most 6u L (R (|org| + t*|dir|) + 2|c|), and t*|dir| <= |org| + S where S
-// bounds the world box's coordinates. So the world ray passes within
+// the mesh (inside its object box B) at parameter t* of r', reported as a t with
+// |t - t*| <= 2^-16 (|t| + E / max|dir'|), E the mesh's extent and dir' = r'.dir
+// (kd_traverse_setup.h), where max|dir'| >= max|dir| / L. The world ray's point at t*
+// differs from to_world(q) only by the rounding of r' and of to_object (the inverse of
+// to_world, rounded): with infinity norms, L = |to_world.linear|, R = |to_object.linear|,
+// c = to_object.offset and u = 2^-24, by at most 6u L (R (|org| + t*|dir|) + 2|c|), and
+// t*|dir| <= |org| + S where S bounds the world box's coordinates. So at t* the world ray
+// passes within
 //   alpha + beta |org|,  alpha = 2^-19 L (R S + 2|c|),  beta = 2^-18 L R
-// (a factor 5 above the bound) of the instance's world box, at a parameter within
-// 2^-16 (|t| + E / max|dir'|) of the reported t, E the mesh's extent and dir' the
-// direction in object space (kd_traverse_setup.h); max|dir'| >= max|dir| / L. The build
-// widens each world box by alpha (two_level.cpp). Each ray is traversed as a "fat" ray:
+// (a factor 5 above the bound) of the instance's world box. The build widens each world
+// box by alpha (two_level.cpp). Each ray is traversed as a "fat" ray:
 // within eps = beta |org| of a split plane it visits both sides (plane distances widened
 // by eps / |dir[axis]|); its range [tnear, tfar] is widened by t_slack(t) and it skips a
 // cell only when its best t lies below the cell's entry by more than t_slack(entry), where

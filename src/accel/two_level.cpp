@@ -235,6 +235,7 @@ Hit TwoLevelAccelerator::intersect(const Ray& ray) const {
   if (tr.plan == TopPlan::Miss) return best;
 
   Entry stack[kTopLevelStackSize];
+  two_level::Mailbox mailbox;
   int sp = 0;
   stack[sp++] = {0, tr.tmin, tr.tmax};
   const KdNode* nodes = top_.nodes().data();
@@ -244,7 +245,10 @@ Hit TwoLevelAccelerator::intersect(const Ray& ray) const {
     // Entries are not sorted by entry distance (fat intervals overlap), so skip, not stop.
     if (best.valid() && double(best.t) < lowest_hit_in_cell(tr, e.tmin)) continue;
     const KdNode leaf = descend(tr, nodes, e, stack, sp);
-    for (std::uint32_t k = 0; k < leaf.count(); ++k) visit(items[leaf.first_slot() + k], ray, best);
+    for (std::uint32_t k = 0; k < leaf.count(); ++k) {
+      const std::uint32_t i = items[leaf.first_slot() + k];
+      if (mailbox.enter(i, 1) != 0) visit(i, ray, best);
+    }
   }
   return best;
 }
@@ -263,6 +267,7 @@ bool TwoLevelAccelerator::occluded(const Ray& ray) const {
   if (tr.plan == TopPlan::Miss) return false;
 
   Entry stack[kTopLevelStackSize];
+  two_level::Mailbox mailbox;
   int sp = 0;
   stack[sp++] = {0, tr.tmin, tr.tmax};
   const KdNode* nodes = top_.nodes().data();
@@ -270,8 +275,10 @@ bool TwoLevelAccelerator::occluded(const Ray& ray) const {
   while (sp > 0) {
     const Entry e = stack[--sp];
     const KdNode leaf = descend(tr, nodes, e, stack, sp);
-    for (std::uint32_t k = 0; k < leaf.count(); ++k)
-      if (blocked_by(items[leaf.first_slot() + k])) return true;
+    for (std::uint32_t k = 0; k < leaf.count(); ++k) {
+      const std::uint32_t i = items[leaf.first_slot() + k];
+      if (mailbox.enter(i, 1) != 0 && blocked_by(i)) return true;
+    }
   }
   return false;
 }

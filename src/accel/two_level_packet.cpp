@@ -125,6 +125,7 @@ void TwoLevelAccelerator::intersect_packet64(const Ray* rays, Hit* hits, int cou
   if (!p.coherent || p.active == 0) return;
 
   PacketStack stack;
+  two_level::Mailbox mailbox;
   double tmin[kPacket], tmax[kPacket];
   Ray local[kPacket];
   Hit local_hits[kPacket];
@@ -155,12 +156,13 @@ void TwoLevelAccelerator::intersect_packet64(const Ray* rays, Hit* hits, int cou
       const std::uint32_t i = items[leaf.first_slot() + j];
       const Instance& inst = instances_[i];
       int n = 0;
-      for (std::uint64_t m = mask; m != 0; m &= m - 1) {
+      for (std::uint64_t m = mailbox.enter(i, mask); m != 0; m &= m - 1) {
         const int k = std::countr_zero(m);
         local[n] = ray_to_object(inst, rays[k]);
         if (hits[k].valid()) local[n].tfar = i < hits[k].instance ? std::nextafter(hits[k].t, kInfinity) : hits[k].t;
         lane_of[n++] = k;
       }
+      if (n == 0) continue;
       bottoms_[inst.mesh]->intersect_packet(local, local_hits, n);
       for (int q = 0; q < n; ++q) {
         if (!local_hits[q].valid()) continue;
@@ -183,6 +185,7 @@ void TwoLevelAccelerator::occluded_packet64(const Ray* rays, bool* occluded, int
   if (!p.coherent || p.active == 0) return;
 
   PacketStack stack;
+  two_level::Mailbox mailbox;
   double tmin[kPacket], tmax[kPacket];
   Ray local[kPacket];
   bool local_blocked[kPacket];
@@ -211,11 +214,12 @@ void TwoLevelAccelerator::occluded_packet64(const Ray* rays, bool* occluded, int
       const std::uint32_t i = items[leaf.first_slot() + j];
       const Instance& inst = instances_[i];
       int n = 0;
-      for (std::uint64_t m = mask; m != 0; m &= m - 1) {
+      for (std::uint64_t m = mailbox.enter(i, mask); m != 0; m &= m - 1) {
         const int k = std::countr_zero(m);
         local[n] = ray_to_object(inst, rays[k]);
         lane_of[n++] = k;
       }
+      if (n == 0) continue;
       bottoms_[inst.mesh]->occluded_packet(local, local_blocked, n);
       for (int q = 0; q < n; ++q) {
         if (!local_blocked[q]) continue;

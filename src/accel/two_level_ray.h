@@ -131,4 +131,30 @@ inline TopStep top_step(const TopRay& tr, int axis, float split, bool negative, 
   return {tmin <= tp + s, tp - s <= tmax, std::fmin(tmax, tp + s), std::fmax(tmin, tp - s)};
 }
 
+// The instances a ray (or which lanes of a packet) entered lately. An instance straddling
+// several leaves is met again in each; entering it again cannot change the answer (its
+// bottom tree answers the same, and tfar has only narrowed since: the best so far only
+// decreases in (t, instance) order), so the lanes that entered it already skip it. A large
+// instance under many small ones (a floor) would otherwise be traversed once per leaf.
+class Mailbox {
+ public:
+  // The lanes of `lanes` that have not entered instance i lately; records them as entering.
+  std::uint64_t enter(std::uint32_t i, std::uint64_t lanes) {
+    for (int k = 0; k < kSize; ++k)
+      if (id_[k] == i) lanes &= ~lanes_[k];
+    if (lanes != 0) {
+      id_[next_] = i;
+      lanes_[next_] = lanes;
+      next_ = (next_ + 1) % kSize;
+    }
+    return lanes;
+  }
+
+ private:
+  static constexpr int kSize = 8;
+  std::uint32_t id_[kSize] = {kNoHit, kNoHit, kNoHit, kNoHit, kNoHit, kNoHit, kNoHit, kNoHit};
+  std::uint64_t lanes_[kSize] = {};
+  int next_ = 0;
+};
+
 }  // namespace lancer::two_level

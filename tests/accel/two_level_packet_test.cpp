@@ -149,8 +149,8 @@ TEST_P(TwoLevelPacket, IncoherentAndPartialPackets) {
 }
 
 // A deep top level: 3,000 small rotated boxes scattered through a volume, so packets use
-// many stack levels and leaves; packets against single rays, and a sample against the
-// definition.
+// many stack levels and leaves, and two large boxes straddling many leaves (entered once
+// per ray, Mailbox); packets against single rays, and a sample against the definition.
 TEST_P(TwoLevelPacket, ManyInstancesDeepTopLevel) {
   InstancedScene s;
   Scene cube;
@@ -163,6 +163,9 @@ TEST_P(TwoLevelPacket, ManyInstancesDeepTopLevel) {
     const glm::dvec3 at(rng.uniform(-10.0f, 10.0f), rng.uniform(-10.0f, 10.0f), rng.uniform(-10.0f, 10.0f));
     s.geometry.instances.push_back(make_instance(0, random_linear(rng, scale), at));
   }
+  // A floor and a tilted slab under and through them: met again in many leaves.
+  s.geometry.instances.push_back(make_instance(0, glm::dmat3(12.0, 0, 0, 0, 0.05, 0, 0, 0, 12.0), {0, -10.5, 0}));
+  s.geometry.instances.push_back(make_instance(0, random_linear(rng, {9.0, 0.2, 9.0}), {0, 0, 0}));
   const TwoLevelAccelerator accel(s.tris, s.geometry, "kdtree", {}, isa());
   ASSERT_GT(accel.top_level().nodes().size(), 1000u) << "a tree at least 10 levels deep";
   const InstanceScan scan(s);

@@ -203,7 +203,7 @@ int run_caustic_bench(const CausticBenchOptions& o, const fs::path& scenes_dir, 
     }
   const Region whole{0, 0, o.size, o.size};
   const Scene scene = load_scene(file);
-  const std::unique_ptr<Accelerator> accel = make_accelerator("kdtree", scene.triangles);
+  const std::unique_ptr<Accelerator> accel = make_accelerator("kdtree", scene.triangles, scene.instancing);
   if (scene.cameras.empty()) {
     err << "lancer bench --caustics: " << file.string() << " has no camera\n";
     return 2;

@@ -146,7 +146,7 @@ SceneResult measure(const RenderBenchOptions& o, const SuiteScene& entry, bool w
   const BenchScene bench = load_bench_scene(entry, o.size);
   r.triangles = bench.scene.triangle_count();
   const auto t_build = Clock::now();
-  const std::unique_ptr<Accelerator> accel = make_accelerator("kdtree", bench.scene.triangles);
+  const std::unique_ptr<Accelerator> accel = make_accelerator("kdtree", bench.scene.triangles, bench.scene.instancing);
   r.build_s = std::chrono::duration<double>(Clock::now() - t_build).count();
 
   // Timed renders, uninstrumented.

@@ -5,6 +5,7 @@
 
 #include "accel/brute_force.h"
 #include "accel/kd_tree.h"
+#include "accel/two_level.h"
 
 namespace lancer {
 
@@ -32,6 +33,14 @@ std::unique_ptr<Accelerator> make_accelerator(std::string_view name, const Trian
   if (name == "kdtree") return std::make_unique<KdTree>(tris, kd, isa);
   if (name == "brute") return std::make_unique<BruteForce>(tris);
   throw std::invalid_argument("unknown accelerator '" + std::string(name) + "'");
+}
+
+std::unique_ptr<Accelerator> make_accelerator(std::string_view name, const TriangleSoA& tris,
+                                              const InstancedGeometry& geometry, const KdBuildOptions& kd, Isa isa) {
+  if (geometry.empty()) return make_accelerator(name, tris, kd, isa);
+  if (name != "kdtree" && name != "brute")
+    throw std::invalid_argument("unknown accelerator '" + std::string(name) + "'");
+  return std::make_unique<TwoLevelAccelerator>(tris, geometry, name, kd, isa);
 }
 
 }  // namespace lancer

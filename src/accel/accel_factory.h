@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "accel/accelerator.h"
+#include "accel/instances.h"
 #include "accel/kd_build.h"
 #include "simd/isa.h"
 
@@ -24,5 +25,12 @@ std::optional<KdSplit> parse_kd_split(std::string_view name);
 // outlive the result. `kd` and `isa` apply to the kd-tree (the oracle is scalar).
 std::unique_ptr<Accelerator> make_accelerator(std::string_view name, const TriangleSoA& tris,
                                               const KdBuildOptions& kd = {}, Isa isa = best_supported_isa());
+
+// The same for a scene drawn through instances: with empty `geometry` exactly the overload
+// above; otherwise a TwoLevelAccelerator whose meshes each get an accelerator called
+// `name` ("kdtree" or "brute"). `tris` must outlive the result only in the empty case.
+std::unique_ptr<Accelerator> make_accelerator(std::string_view name, const TriangleSoA& tris,
+                                              const InstancedGeometry& geometry, const KdBuildOptions& kd = {},
+                                              Isa isa = best_supported_isa());
 
 }  // namespace lancer

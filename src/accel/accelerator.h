@@ -15,7 +15,8 @@ class Accelerator {
  public:
   virtual ~Accelerator() = default;
 
-  // Closest hit with tnear <= t < tfar; ties in t go to the lowest triangle index.
+  // Closest hit with tnear <= t < tfar; ties in t go to the lowest instance, then the lowest
+  // triangle index.
   virtual Hit intersect(const Ray& ray) const = 0;
   // True when any triangle is hit with tnear <= t < tfar.
   virtual bool occluded(const Ray& ray) const = 0;

@@ -26,6 +26,9 @@ struct Hit {
   std::uint32_t prim = kNoHit;
   float u = 0.0f;
   float v = 0.0f;
+  // The instance (InstancedGeometry::instances) the triangle was hit through; kNoHit in a
+  // one-level scene, whose triangles are drawn once, in world space.
+  std::uint32_t instance = kNoHit;
 
   bool valid() const { return prim != kNoHit; }
 };

@@ -68,6 +68,7 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <glm/vec3.hpp>
 
+#include "accel/instances.h"
 #include "accel/triangle_soa.h"
 
 namespace lancer {
@@ -198,10 +199,15 @@ inline double required_height(const TriangleCorners& v, const glm::vec3& o, cons
 // distance from the plane is measured and made up for, whatever it is. `n` is the geometric
 // normal in either orientation; it only decides the side for a ray exactly in the plane.
 // A triangle without area, or a non-finite input, gets offset_ray_origin(p, n).
+//
+// A triangle drawn through an instance (`inst` not null): `tri` is in the instance's
+// space, p and n in world space, and the bound is proven for the ray as the two-level
+// accelerator traces it: the world origin returned, moved into the instance's space by
+// ray_to_object's very float operations, with the direction moved likewise.
 class SurfaceOffset {
  public:
-  SurfaceOffset(const glm::vec3& p, const glm::vec3& n, const TriangleCorners& tri)
-      : tri_(tri), p_(p), n_(n), corner_(tri[0]) {
+  SurfaceOffset(const glm::vec3& p, const glm::vec3& n, const TriangleCorners& tri, const Instance* inst = nullptr)
+      : tri_(tri), p_(inst ? to_object_point(*inst, p) : p), n_(n), p_world_(p), inst_(inst), corner_(tri[0]) {
     // The plane in double. Differences of floats are exact there (or nearly), so each
     // component of the cross product is off by at most its two products' roundings: the
     // normal is good to a few 2^-53 per component, and exact for an axis-aligned plane.
@@ -217,13 +223,14 @@ class SurfaceOffset {
                               std::fabs(e1.x * e2.y) + std::fabs(e1.y * e2.x));
     const glm::dvec3 normal_error = (0x1p-51 * inv_len) * products + 0x1p-50 * glm::abs(normal_);
     height_error_weights_ = normal_error + 0x1p-50 * glm::abs(normal_);
-    const glm::dvec3 rel = glm::dvec3(p) - corner_;
+    const glm::dvec3 rel = glm::dvec3(p_) - corner_;
     p_height_ = glm::dot(rel, normal_);
     p_height_error_ = height_error(rel);
     for (int k = 0; k < 3; ++k) {
-      for (const glm::vec3& v : tri) extent_ = std::max(extent_, std::fabs(double(v[k]) - p[k]));
-      o_rounding_ += 2.0 * ray_offset_detail::gamma(1) * std::fabs(normal_[k] * p[k]);
+      for (const glm::vec3& v : tri) extent_ = std::max(extent_, std::fabs(double(v[k]) - p_[k]));
+      o_rounding_ += 2.0 * ray_offset_detail::gamma(1) * std::fabs(normal_[k] * p_[k]);
     }
+    if (inst) o_rounding_ += 2.0 * round_trip_error(*inst);
   }
 
   // The origin for a ray of direction `dir`, which must be exactly the direction the ray is
@@ -237,7 +244,7 @@ class SurfaceOffset {
   // The origin o for a segment to `end`, traced with direction end - o (in float, as the
   // caller computes it): a shadow ray that must reach its end point whatever the height.
   glm::vec3 origin_towards(const glm::vec3& end) const {
-    return solve(end - p_, [&](const glm::vec3& o) { return end - o; });
+    return solve(end - p_world_, [&](const glm::vec3& o) { return end - o; });
   }
 
   // Lays out the ray origin(target) (origin_towards(target) when towards) as lane i of a
@@ -256,7 +263,7 @@ class SurfaceOffset {
   bool start(const glm::vec3& dir, Start& s) const {
     using namespace ray_offset_detail;
     if (!valid_ || !usable(dir)) return false;
-    const double toward = glm::dot(glm::dvec3(dir), normal_);
+    const double toward = glm::dot(glm::dvec3(inst_ ? inst_->to_object.vector(dir) : dir), normal_);
     const bool flip = toward < 0.0 || (toward == 0.0 && glm::dot(glm::dvec3(n_), normal_) < 0.0);
     s.normal = flip ? -normal_ : normal_;
     // How far p lies on the wrong side of the plane, at most.
@@ -271,7 +278,7 @@ class SurfaceOffset {
   glm::vec3 solve(const glm::vec3& dir, DirFor dir_for) const {
     using namespace ray_offset_detail;
     Start st;
-    if (!start(dir, st)) return offset_ray_origin(p_, glm::dot(dir, n_) < 0.0f ? -n_ : n_);
+    if (!start(dir, st)) return offset_ray_origin(p_world_, glm::dot(dir, n_) < 0.0f ? -n_ : n_);
     const glm::dvec3& normal = st.normal;
     const double deficit = st.deficit;
     double h = st.h;
@@ -280,7 +287,10 @@ class SurfaceOffset {
     int count = 0;
     for (int attempt = 0; attempt < 64; ++attempt) {
       o = glm::vec3(glm::dvec3(p_) + h * normal);
-      const glm::vec3 d = dir_for(o);
+      // Through an instance: the world origin, and the origin and direction the kernel sees.
+      const glm::vec3 world = inst_ ? inst_->to_world.point(o) : o;
+      if (inst_) o = inst_->to_object.point(world);
+      const glm::vec3 d = inst_ ? inst_->to_object.vector(dir_for(world)) : dir_for(o);
       if (!usable(d)) break;
       if (d != sheared) {
         // Every permutation the kernel could pick for d (a near tie may go either way).
@@ -295,12 +305,35 @@ class SurfaceOffset {
       const double have = glm::dot(rel, normal) - height_error(rel);
       double need = 0.0;
       for (int i = 0; i < count; ++i) need = std::max(need, required_height(tri_, o, normal, shears[i]));
-      if (have > 0.0 && have >= need) return o;
+      if (have > 0.0 && have >= need) return world;
       // Where no height is proven yet (a ray near tangent), grow from a few ulps of the extent.
       h = std::max(2.0 * h, std::isfinite(need) ? 1.25 * need + 2.0 * deficit + o_rounding_
                                                 : gamma(4) * extent_);
     }
-    return o;  // not reached for finite input: the line leaves the triangle long before
+    return inst_ ? inst_->to_world.point(o) : o;  // not reached for finite input: the line leaves the triangle long before
+  }
+
+  // p in the instance's space, rounded once from a double evaluation.
+  static glm::vec3 to_object_point(const Instance& inst, const glm::vec3& p) {
+    const glm::dmat3 l(inst.to_object.linear);
+    return glm::vec3(l * glm::dvec3(p) + glm::dvec3(inst.to_object.offset));
+  }
+
+  // How far, along the plane's normal, the trip of an origin near p to world space and back
+  // (to_world, then to_object, each up to gamma_3 of its terms per component) may move it.
+  double round_trip_error(const Instance& inst) const {
+    using ray_offset_detail::gamma;
+    const glm::dmat3 to_w = glm::dmat3(inst.to_world.linear), to_o = glm::dmat3(inst.to_object.linear);
+    glm::dmat3 abs_w, abs_o;
+    for (int c = 0; c < 3; ++c) {
+      abs_w[c] = glm::abs(to_w[c]);
+      abs_o[c] = glm::abs(to_o[c]);
+    }
+    const glm::dvec3 world = glm::abs(to_w * glm::dvec3(p_) + glm::dvec3(inst.to_world.offset));
+    const glm::dvec3 world_error = gamma(3) * (abs_w * glm::abs(glm::dvec3(p_)) + glm::abs(glm::dvec3(inst.to_world.offset)));
+    const glm::dvec3 back_error =
+        abs_o * world_error + gamma(3) * (abs_o * (world + world_error) + glm::abs(glm::dvec3(inst.to_object.offset)));
+    return glm::dot(glm::abs(normal_), back_error);
   }
 
   static bool usable(const glm::vec3& d) {
@@ -313,7 +346,9 @@ class SurfaceOffset {
   double height_error(const glm::dvec3& rel) const { return glm::dot(glm::abs(rel), height_error_weights_); }
 
   TriangleCorners tri_;
-  glm::vec3 p_, n_;
+  glm::vec3 p_, n_;  // p_ in the triangle's space, n_ in world space
+  glm::vec3 p_world_;
+  const Instance* inst_ = nullptr;
   glm::dvec3 corner_, normal_{0.0}, height_error_weights_{0.0};
   double p_height_ = 0.0, p_height_error_ = 0.0, extent_ = 0.0, o_rounding_ = 0.0;
   bool valid_ = false;

@@ -48,6 +48,18 @@ void add_isa_option(CLI::App& app, std::string& isa) {
       ->default_str(std::string(isa_name(best_supported_isa())) + " (the best this CPU runs)");
 }
 
+void add_instancing_option(CLI::App& app, InstancingMode& mode) {
+  app.add_option_function<std::string>(
+         "--instancing",
+         [&mode](const std::string& name) {
+           mode = name == "on" ? InstancingMode::On : name == "off" ? InstancingMode::Off : InstancingMode::Auto;
+         },
+         "glTF meshes drawn more than once: stored once and drawn through instances (two-level kd-tree) when the "
+         "copies would add 65536 triangles (auto), whenever drawn twice (on), or copied (off)")
+      ->check(CLI::IsMember({"auto", "on", "off"}))
+      ->default_str("auto");
+}
+
 void add_render_command(CLI::App& app, RenderOptions& opt) {
   CLI::App* render = app.add_subcommand("render", "Render a scene to image files");
   render->add_option("scene", opt.scene, "Scene file (.gltf, .glb or .obj)")->required();
@@ -162,6 +174,7 @@ void add_render_command(CLI::App& app, RenderOptions& opt) {
       ->check(CLI::NonNegativeNumber);
   render->add_option("--scene", opt.gltf_scene, "Number of the glTF scene to render (default: the file's default scene)")
       ->check(CLI::NonNegativeNumber);
+  add_instancing_option(*render, opt.instancing);
   render->add_option("--frame-time", opt.frame_time,
                      "Pose an animated glTF file as its first animation has it at this time, in seconds (default: "
                      "each channel's first keyframe; held before the first and after the last)");
@@ -183,6 +196,7 @@ void add_info_command(CLI::App& app, InfoOptions& opt) {
   info->add_option("--accel", opt.accel, "Accelerator to build and describe")->check(CLI::IsMember(accels))->capture_default_str();
   add_kd_split_option(*info, opt.kd_split);
   add_isa_option(*info, opt.isa);
+  add_instancing_option(*info, opt.instancing);
 }
 
 void add_trace_command(CLI::App& app, TraceOptions& opt) {
@@ -202,6 +216,7 @@ void add_trace_command(CLI::App& app, TraceOptions& opt) {
       ->check(CLI::IsMember({"packet", "single"}))
       ->default_str("packet");
   add_isa_option(*trace, opt.isa);
+  add_instancing_option(*trace, opt.instancing);
   trace->add_option("--threads", opt.threads, "Worker threads (0: all cores); the answers do not depend on it")
       ->check(CLI::Range(0, 4096))->capture_default_str();
   trace->add_flag("--occlusion", opt.occlusion,

@@ -17,7 +17,7 @@ namespace lancer {
 
 int run_info(const InfoOptions& opt, std::ostream& out, std::ostream& err) {
   try {
-    const Scene scene = load_scene(opt.scene, opt.gltf_scene);
+    const Scene scene = load_scene(opt.scene, opt.gltf_scene, std::nullopt, opt.instancing);
     const Bounds3 b = scene.bounds();
     std::size_t emissive = 0;
     for (std::uint32_t id : scene.material_id) emissive += scene.materials[id].emissive() ? 1 : 0;
@@ -25,6 +25,9 @@ int run_info(const InfoOptions& opt, std::ostream& out, std::ostream& err) {
     char line[256];
     out << "scene:      " << scene.source << "\n";
     out << "triangles:  " << scene.triangle_count() << " (" << emissive << " emissive)\n";
+    if (!scene.instancing.empty())
+      out << "instances:  " << scene.instancing.instances.size() << " of " << scene.instancing.meshes.size()
+          << " meshes, " << scene.drawn_triangle_count() << " triangles drawn\n";
     out << "dropped:    " << scene.stats.degenerate_dropped << " zero-area\n";
     out << "materials:  " << scene.materials.size() << "\n";
     out << "textures:   " << scene.textures.size() << " (" << scene.images.size() << " images)\n";
@@ -49,7 +52,7 @@ int run_info(const InfoOptions& opt, std::ostream& out, std::ostream& err) {
 
     const auto t0 = std::chrono::steady_clock::now();
     const std::unique_ptr<Accelerator> accel =
-        make_accelerator(opt.accel, scene.triangles, kd_options_from(opt.kd_split), isa_from(opt.isa));
+        make_accelerator(opt.accel, scene.triangles, scene.instancing, kd_options_from(opt.kd_split), isa_from(opt.isa));
     const double ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     if (const auto* kd = dynamic_cast<const KdTree*>(accel.get())) {
       out << "accel:      kdtree (" << opt.kd_split << "), isa " << isa_name(kd->isa()) << "\n";

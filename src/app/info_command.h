@@ -5,11 +5,14 @@
 #include <optional>
 #include <string>
 
+#include "scene/scene.h"
+
 namespace lancer {
 
 struct InfoOptions {
   std::string scene;
   std::optional<int> gltf_scene;  // --scene
+  InstancingMode instancing = InstancingMode::Auto;  // --instancing
   std::string accel = "kdtree";
   std::string kd_split = "sah";
   std::string isa;  // empty: the best this CPU supports

@@ -30,7 +30,7 @@ int run_rays(const RaysOptions& opt, std::ostream& out, std::ostream& err) {
     if (opt.set == RaySet::Primary) {
       rays = primary_rays(camera);
     } else {
-      const std::unique_ptr<Accelerator> accel = make_accelerator("kdtree", scene.triangles);
+      const std::unique_ptr<Accelerator> accel = make_accelerator("kdtree", scene.triangles, scene.instancing);
       rays = make_ray_set(scene, *accel, camera, opt.set, opt.seed);
     }
     // A ray file holds at least one ray (read_rays refuses empty files).

@@ -146,7 +146,7 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
     }
 
     const auto t_load = std::chrono::steady_clock::now();
-    const Scene scene = load_scene(opt.scene, opt.gltf_scene, opt.frame_time);
+    const Scene scene = load_scene(opt.scene, opt.gltf_scene, opt.frame_time, opt.instancing);
     if (rank == 0) print_load_warnings(scene, err);  // (every rank loads the same scene: one says so)
     const bool lit_by_env = !opt.env_file.empty() || !opt.env_color.empty();
     if (rank == 0 && !has_light(scene) && !lit_by_env &&
@@ -180,7 +180,7 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
 
     const Isa isa = isa_from(opt.isa);
     const auto t_build = std::chrono::steady_clock::now();
-    const std::unique_ptr<Accelerator> accel = make_accelerator(opt.accel, scene.triangles, kd_options_from(opt.kd_split), isa);
+    const std::unique_ptr<Accelerator> accel = make_accelerator(opt.accel, scene.triangles, scene.instancing, kd_options_from(opt.kd_split), isa);
     const double build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_build).count();
     const double load_s = std::chrono::duration<double>(t_build - t_load).count();
 
@@ -267,12 +267,12 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
     const double primary_mrays =
         stats.primary_seconds > 0.0 ? static_cast<double>(stats.primary_rays) / stats.primary_seconds * 1e-6 : 0.0;
     std::snprintf(line, sizeof line,
-                  "lancer: %s %dx%d, %d spp, %s, accel %s, isa %s, mode %s (%zu triangles): load %.2f s, "
+                  "lancer: %s %dx%d, %d spp, %s, accel %s, isa %s, mode %s (%zu triangles drawn): load %.2f s, "
                   "build %.2f s, render %.2f s, %.2f Mrays, %.2f Mrays/s, primary %.2f Mrays/s/thread",
                   scene.source.c_str(), s.width, s.height, stats.stopped ? static_cast<int>(stats.max_spp) : s.spp,
                   std::string(integrator_name(s.integrator)).c_str(),
                   opt.accel.c_str(), std::string(isa_name(opt.accel == "brute" ? Isa::Scalar : isa)).c_str(),
-                  std::string(trace_mode_name(s.mode)).c_str(), scene.triangle_count(), load_s, build_s,
+                  std::string(trace_mode_name(s.mode)).c_str(), scene.drawn_triangle_count(), load_s, build_s,
                   stats.seconds, static_cast<double>(stats.rays) * 1e-6, mrays, primary_mrays);
     out << line << "\n";
     if (channel) {

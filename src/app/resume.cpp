@@ -83,6 +83,17 @@ std::string scene_fingerprint(const std::string& file, const Scene& scene) {
   add_vector(h, scene.tangents);
   add_vector(h, scene.texcoords1);
   add_vector(h, scene.colors);
+  // Instances: a render resumed with other --instancing has other geometry (in rounding).
+  h.add_u64(scene.instancing.meshes.size());
+  for (const MeshRange& m : scene.instancing.meshes) h.add_u64(std::uint64_t(m.first) << 32 | m.count);
+  h.add_u64(scene.instancing.instances.size());
+  for (const Instance& inst : scene.instancing.instances) {
+    h.add_u64(inst.mesh);
+    for (const Affine* a : {&inst.to_world, &inst.to_object}) {
+      h.add(&a->linear, sizeof a->linear);
+      h.add(&a->offset, sizeof a->offset);
+    }
+  }
   for (const PunctualLight& light : scene.lights) {
     const float numbers[] = {light.color.x, light.color.y, light.color.z, light.intensity, light.position.x,
                              light.position.y, light.position.z, light.direction.x, light.direction.y,
@@ -113,7 +124,13 @@ CheckpointFacts render_facts(const RenderOptions& options, const RenderSettings&
                                   exact(camera.origin()) + " forward " + exact(camera.forward()) + " x " +
                                   exact(camera.x_axis()) + " y " + exact(camera.y_axis()) + " aperture " +
                                   exact(camera.aperture_radius()) + " focus " + exact(camera.focus_distance());
+  // Before the scene: another --instancing that shares other meshes stores other geometry,
+  // and this names the cause (one that shares the same is the same render).
+  const std::string instancing = scene.instancing.empty()
+                                     ? std::string("none")
+                                     : std::to_string(scene.instancing.instances.size()) + " instances";
   return {{"version", LANCER_VERSION},
+          {"instancing", instancing},
           {"scene", scene_fingerprint(options.scene, scene)},
           {"seed", std::to_string(settings.seed)},
           {"width", std::to_string(settings.width)},

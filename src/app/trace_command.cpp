@@ -30,13 +30,13 @@ int run_trace(const TraceOptions& opt, std::ostream& out, std::ostream& err) {
     if (opt.mode != TraceMode::Packet && opt.mode != TraceMode::Single) throw std::invalid_argument("unknown --mode");
     const Isa isa = isa_from(opt.isa);
     const std::vector<Ray> rays = read_rays(opt.rays);
-    const Scene scene = load_scene(opt.scene);
+    const Scene scene = load_scene(opt.scene, std::nullopt, std::nullopt, opt.instancing);
     print_load_warnings(scene, err);
 
     tbb::task_arena arena(opt.threads > 0 ? opt.threads : tbb::task_arena::automatic);
     arena.initialize();
     std::unique_ptr<Accelerator> accel;
-    arena.execute([&] { accel = make_accelerator("kdtree", scene.triangles, KdBuildOptions{}, isa); });
+    arena.execute([&] { accel = make_accelerator("kdtree", scene.triangles, scene.instancing, KdBuildOptions{}, isa); });
 
     // The timed part is the tracing alone (render/ray_batch.h); turning hits into records is not.
     std::vector<Hit> hits;
@@ -59,7 +59,9 @@ int run_trace(const TraceOptions& opt, std::ostream& out, std::ostream& err) {
       write_occlusion(opt.hits, occluded);
     } else {
       std::vector<HitRecord> records(hits.size());
-      for (std::size_t i = 0; i < hits.size(); ++i) records[i] = make_hit_record(hits[i], scene.source_triangle_id);
+      for (std::size_t i = 0; i < hits.size(); ++i)
+        records[i] = hits[i].valid() ? HitRecord{hits[i].t, scene.source_id(hits[i].prim, hits[i].instance)}
+                                     : make_hit_record(hits[i], scene.source_triangle_id);
       answered = static_cast<std::size_t>(
           std::count_if(records.begin(), records.end(), [](const HitRecord& h) { return h.id != kNoHit; }));
       write_hits(opt.hits, records);

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "render/render_settings.h"
+#include "scene/scene.h"
 
 namespace lancer {
 
@@ -16,6 +17,7 @@ struct TraceOptions {
   std::string hits;  // output: hit file, or occlusion file with `occlusion`
   TraceMode mode = TraceMode::Packet;
   std::string isa;  // empty: the best this CPU supports
+  InstancingMode instancing = InstancingMode::Auto;  // --instancing
   int threads = 0;  // 0: all cores
   bool occlusion = false;
 };

@@ -36,7 +36,7 @@ glm::vec3 debug_radiance_from_hit(IntegratorKind kind, const Scene& scene, const
     case IntegratorKind::Depth:
       return glm::vec3(hit.t);
     case IntegratorKind::PrimId:
-      return primid_color(hit.prim < scene.source_triangle_id.size() ? scene.source_triangle_id[hit.prim] : hit.prim);
+      return primid_color(scene.source_id(hit.prim, hit.instance));
     case IntegratorKind::Path:
     case IntegratorKind::Whitted:
     case IntegratorKind::Sppm:

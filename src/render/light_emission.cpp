@@ -9,6 +9,7 @@
 #include "accel/ray_offset.h"
 #include "render/bsdf_base.h"
 #include "render/color.h"
+#include "render/drawn_triangle.h"
 #include "render/light_sampling.h"
 #include "render/ray_sets.h"
 
@@ -182,7 +183,7 @@ EmittedPhoton LightEmission::sample_area(float u_pick, glm::vec2 u_pos, glm::vec
   const glm::vec3 dir = cosine_hemisphere_direction(n, u_dir.x, u_dir.y);
   if (!(glm::dot(dir, n) > 0.0f)) return photon;
   photon.ray.dir = dir;
-  photon.ray.org = SurfaceOffset(s.point, n, triangle_corners(scene_.triangles, s.prim)).origin(dir);
+  photon.ray.org = leaving_offset(scene_, s.point, n, s.prim, s.instance).origin(dir);
   set_power(photon, area_light_radiance(scene_, s, dir), kPi / (p_pick * double(s.pdf_area) * p_side));
   return photon;
 }

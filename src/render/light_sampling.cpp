@@ -41,7 +41,7 @@ glm::vec3 area_light_radiance(const Scene& scene, const AreaLightSample& s, cons
   Ray toward;
   toward.org = s.point + w;
   toward.dir = -w;
-  const ShadingInputs si = evaluate_shading(scene, toward, Hit{1.0f, s.prim, s.b1, s.b2});
+  const ShadingInputs si = evaluate_shading(scene, toward, Hit{1.0f, s.prim, s.b1, s.b2, s.instance});
   return si.emission * si.alpha;
 }
 

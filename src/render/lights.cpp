@@ -8,6 +8,7 @@
 #include <glm/geometric.hpp>
 
 #include "render/color.h"
+#include "render/drawn_triangle.h"
 #include "render/shading_inputs.h"
 #include "render/texture.h"
 
@@ -65,7 +66,7 @@ double mean_emitted_luminance(const Scene& scene, const EmissiveTriangle& t, int
         const float third = flip == 0 ? 1.0f / 3.0f : 2.0f / 3.0f;
         const float b1 = (float(i) + third) * step, b2 = (float(j) + third) * step;
         ray.org = t.a + b1 * t.e1 + b2 * t.e2 + t.normal;
-        const ShadingInputs si = evaluate_shading(scene, ray, Hit{1.0f, t.prim, b1, b2});
+        const ShadingInputs si = evaluate_shading(scene, ray, Hit{1.0f, t.prim, b1, b2, t.instance});
         sum += luminance(si.emission * si.alpha);
         ++count;
       }
@@ -114,31 +115,52 @@ PunctualIncidence illuminate(const PunctualLight& light, const glm::vec3& p) {
   return in;
 }
 
-AreaLights::AreaLights(const Scene& scene) : light_of_prim_(scene.triangle_count(), -1) {
+AreaLights::AreaLights(const Scene& scene) : emissive_rank_(scene.triangle_count(), -1) {
+  // Ranks of the emissive triangles within their mesh (the whole scene when one-level).
+  const bool instanced = instanced_ = !scene.instancing.empty();
+  const std::vector<MeshRange> whole{{0, std::uint32_t(scene.triangle_count())}};
+  const std::vector<MeshRange>& meshes = instanced ? scene.instancing.meshes : whole;
+  std::vector<std::uint32_t> emissive_in_mesh(meshes.size(), 0);
+  for (std::size_t m = 0; m < meshes.size(); ++m)
+    for (std::uint32_t i = meshes[m].first; i < meshes[m].first + meshes[m].count; ++i)
+      if (scene.materials[scene.material_id[i]].emissive()) emissive_rank_[i] = std::int32_t(emissive_in_mesh[m]++);
+
   std::vector<EmissiveTriangle> candidates;
   std::vector<int> grid;  // per candidate: emission_grid, 0 for a constant emission
+  std::vector<std::size_t> slot_of_candidate;
   std::size_t looks = 0;
-  for (std::size_t i = 0; i < scene.triangle_count(); ++i) {
-    const Material& m = scene.materials[scene.material_id[i]];
-    if (!m.emissive()) continue;
-    EmissiveTriangle t;
-    t.prim = static_cast<std::uint32_t>(i);
-    t.a = scene.triangles.vertex(i, 0);
-    t.e1 = scene.triangles.vertex(i, 1) - t.a;
-    t.e2 = scene.triangles.vertex(i, 2) - t.a;
-    const glm::vec3 n = glm::cross(t.e1, t.e2);
-    const float len = glm::length(n);
-    // Lights too small for float can never be sampled with a finite pdf: they are left
-    // out (they still show when seen directly).
-    if (!(len > 0.0f) || !std::isfinite(len)) continue;
-    t.area = 0.5f * len;
-    t.normal = n / len;
-    t.radiance = m.emission();
-    t.two_sided = m.double_sided;
-    const int n_grid = emission_varies(scene, m) ? emission_grid(scene, m, t.prim) : 0;
-    looks += std::size_t(n_grid) * std::size_t(n_grid);
-    candidates.push_back(t);
-    grid.push_back(n_grid);
+  const std::size_t drawings = instanced ? scene.instancing.instances.size() : 1;
+  for (std::size_t d = 0; d < drawings; ++d) {
+    const std::uint32_t instance = instanced ? std::uint32_t(d) : kNoHit;
+    const Instance* inst = scene.instance_transform(instance);
+    const MeshRange& mesh = instanced ? meshes[scene.instancing.instances[d].mesh] : whole[0];
+    instance_first_.push_back(light_slot_.size());
+    light_slot_.resize(light_slot_.size() + emissive_in_mesh[instanced ? scene.instancing.instances[d].mesh : 0], -1);
+    for (std::uint32_t i = mesh.first; i < mesh.first + mesh.count; ++i) {
+      if (emissive_rank_[i] < 0) continue;
+      const Material& m = scene.materials[scene.material_id[i]];
+      EmissiveTriangle t;
+      t.prim = i;
+      t.instance = instance;
+      const TriangleCorners c = drawn_corners(scene, i, inst);
+      t.a = c[0];
+      t.e1 = c[1] - t.a;
+      t.e2 = c[2] - t.a;
+      const glm::vec3 n = drawn_front_normal(c, inst);
+      const float len = glm::length(n);
+      // Lights too small for float can never be sampled with a finite pdf: they are left
+      // out (they still show when seen directly).
+      if (!(len > 0.0f) || !std::isfinite(len)) continue;
+      t.area = 0.5f * len;
+      t.normal = n / len;
+      t.radiance = m.emission();
+      t.two_sided = m.double_sided;
+      const int n_grid = emission_varies(scene, m) ? emission_grid(scene, m, t.prim) : 0;
+      looks += std::size_t(n_grid) * std::size_t(n_grid);
+      candidates.push_back(t);
+      grid.push_back(n_grid);
+      slot_of_candidate.push_back(instance_first_.back() + std::size_t(emissive_rank_[i]));
+    }
   }
   // However many textured emitters a file has, the estimate looks at most kMaxLooks times.
   const double shrink = looks > kMaxLooks ? std::sqrt(double(kMaxLooks) / double(looks)) : 1.0;
@@ -151,10 +173,19 @@ AreaLights::AreaLights(const Scene& scene) : light_of_prim_(scene.triangle_count
     // No positive luminance: never sampled (see the class comment).
     if (!(t.power > 0.0) || !std::isfinite(t.power)) continue;
     total += t.power;
-    light_of_prim_[t.prim] = static_cast<std::int32_t>(lights_.size());
+    light_slot_[slot_of_candidate[k]] = static_cast<std::int32_t>(lights_.size());
     lights_.push_back(t);
     cdf_.push_back(total);
   }
+}
+
+std::int32_t AreaLights::light_index(std::uint32_t prim, std::uint32_t instance) const {
+  if (prim >= emissive_rank_.size() || emissive_rank_[prim] < 0) return -1;
+  // A one-level scene's triangles have no instance; an instanced scene's always have one.
+  if ((instance == kNoHit) != !instanced_) return -1;
+  const std::size_t d = instance == kNoHit ? 0 : instance;
+  if (d >= instance_first_.size()) return -1;
+  return light_slot_[instance_first_[d] + std::size_t(emissive_rank_[prim])];
 }
 
 float AreaLights::pick_probability(std::size_t i) const {
@@ -180,14 +211,16 @@ AreaLightSample AreaLights::sample(float u_pick, float u1, float u2) const {
   out.radiance = t.radiance;
   out.pdf_area = pick_probability(i) / t.area;
   out.prim = t.prim;
+  out.instance = t.instance;
   out.b1 = s;
   out.b2 = r;
   return out;
 }
 
-float AreaLights::pdf_area(std::uint32_t prim) const {
-  if (prim >= light_of_prim_.size() || light_of_prim_[prim] < 0) return 0.0f;
-  const auto i = static_cast<std::size_t>(light_of_prim_[prim]);
+float AreaLights::pdf_area(std::uint32_t prim, std::uint32_t instance) const {
+  const std::int32_t light = light_index(prim, instance);
+  if (light < 0) return 0.0f;
+  const auto i = static_cast<std::size_t>(light);
   return pick_probability(i) / lights_[i].area;
 }
 

@@ -39,6 +39,7 @@ float spot_falloff(const PunctualLight& light, const glm::vec3& to_point);
 // on both when its material is double-sided (render/shading_inputs.h, emits_toward).
 struct EmissiveTriangle {
   std::uint32_t prim = 0;
+  std::uint32_t instance = kNoHit;        // drawn through (Hit::instance), kNoHit: world space
   glm::vec3 a{0.0f}, e1{0.0f}, e2{0.0f};  // p = a + s e1 + t e2
   glm::vec3 normal{0.0f};                 // unit, front side
   float area = 0.0f;
@@ -57,9 +58,10 @@ struct AreaLightSample {
   float pdf_area = 0.0f;   // per unit area, including the choice of the triangle
   std::uint32_t prim = 0;  // the triangle, and the point's barycentrics (Hit's u, v)
   float b1 = 0.0f, b2 = 0.0f;
+  std::uint32_t instance = kNoHit;  // the triangle's instance (Hit::instance)
 };
 
-// All emissive triangles of a scene, chosen in proportion to their power (area times the
+// All emissive triangles of a scene (each drawing of an instanced one), chosen in proportion to their power (area times the
 // luminance of the emitted radiance, averaged over the triangle where an emissive texture
 // or a coverage varies it) and sampled uniformly in area. A triangle whose estimated
 // power is 0 (its texture black wherever it was looked at) is not a light: paths that
@@ -77,14 +79,22 @@ class AreaLights {
 
   // u_pick, u1, u2 in [0, 1). Must not be called when empty().
   AreaLightSample sample(float u_pick, float u1, float u2) const;
-  // The area density sample() gives points of triangle `prim` (0 when it is not a light):
-  // what a path that hits the light by BSDF sampling needs for multiple importance sampling.
-  float pdf_area(std::uint32_t prim) const;
+  // The area density sample() gives points of triangle `prim` drawn through `instance` (0
+  // when it is not a light): what a path that hits the light by BSDF sampling needs for
+  // multiple importance sampling.
+  float pdf_area(std::uint32_t prim, std::uint32_t instance = kNoHit) const;
 
  private:
   std::vector<EmissiveTriangle> lights_;
   std::vector<double> cdf_;  // cdf_[i]: total power of lights 0..i, cdf_.back() == total
-  std::vector<std::int32_t> light_of_prim_;  // per scene triangle: index into lights_, or -1
+  // Where a drawn triangle's light is: per scene triangle, its rank among the emissive
+  // triangles of its mesh (-1: not emissive); per instance, where its ranks start in
+  // light_slot_; per drawn emissive triangle, the index into lights_ or -1.
+  std::vector<std::int32_t> emissive_rank_;
+  std::vector<std::size_t> instance_first_;
+  std::vector<std::int32_t> light_slot_;
+  bool instanced_ = false;
+  std::int32_t light_index(std::uint32_t prim, std::uint32_t instance) const;
 };
 
 }  // namespace lancer

@@ -9,6 +9,7 @@
 #include "accel/ray_offset_batch.h"
 #include "render/bsdf.h"
 #include "render/coverage.h"
+#include "render/drawn_triangle.h"
 #include "render/light_sampling.h"
 #include "render/path_rules.h"
 #include "render/shading_inputs.h"
@@ -223,7 +224,7 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
   // the ray cannot hit it again, for each ray's exact direction (ray_offset.h), solved for
   // the whole bounce at once (solve_origins_of_bounce).
   auto leave = [&] {
-    scratch.leaves.emplace_back(si.p, si.ng, triangle_corners(scene_.triangles, hit.prim));
+    scratch.leaves.push_back(leaving_offset(scene_, si.p, si.ng, hit.prim, hit.instance));
     return static_cast<std::uint32_t>(scratch.leaves.size() - 1);
   };
   auto go_on = [&](const glm::vec3& next_dir, std::uint32_t from) {
@@ -248,7 +249,7 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
   if (emits_toward(*si.material, si.front_face) && !is_black(si.emission) && !caustic) {
     float w = 1.0f;
     if (!path.prev_delta) {
-      const float pdf_area = area_lights_.pdf_area(hit.prim);
+      const float pdf_area = area_lights_.pdf_area(hit.prim, hit.instance);
       const float cos_l = std::abs(glm::dot(si.ng, dir));
       // From the point the BSDF sample left, through any surfaces passed on the way.
       const float distance = path.travelled + hit.t * dir_length;

@@ -5,6 +5,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "render/drawn_triangle.h"
 #include "render/normal_mapping.h"
 #include "render/surface.h"
 #include "render/texture.h"
@@ -34,21 +35,36 @@ float coverage(const Material& m, float alpha) {
 
 // The tangent frame (xyz unit and orthogonal to `n`, w handedness) for the triangle's
 // normal map, per the rules in shading_inputs.h; w = 0 when there is none.
-glm::vec4 normal_map_frame(const Scene& scene, std::size_t tri, std::uint8_t flags, float w, float u, float v,
-                           const glm::vec3& n, const TextureRef& normal_texture) {
+glm::vec4 normal_map_frame(const Scene& scene, std::size_t tri, const Instance* inst, std::uint8_t flags, float w,
+                           float u, float v, const glm::vec3& n, const TextureRef& normal_texture) {
   if (flags & kHasTangents) {
-    const glm::vec4 t = interpolate(scene.tangents, tri, w, u, v);
-    const float handedness = scene.tangents[3 * tri].w < 0.0f ? -1.0f : 1.0f;
+    glm::vec4 t = interpolate(scene.tangents, tri, w, u, v);
+    float handedness = scene.tangents[3 * tri].w < 0.0f ? -1.0f : 1.0f;
+    if (inst) {
+      // Each corner's tangent in world space and unit, as a flattened copy stores it; a
+      // mirror turns the frame's handedness.
+      const glm::vec4* c = &scene.tangents[3 * tri];
+      glm::vec3 sum(0.0f);
+      const float weight[3] = {w, u, v};
+      for (int k = 0; k < 3; ++k) {
+        const glm::vec3 xyz = vector_to_world(inst, glm::vec3(c[k]));
+        const float len = glm::length(xyz);
+        sum += weight[k] * (len > 0.0f ? xyz / len : xyz);
+      }
+      t = glm::vec4(sum, t.w);
+      if (mirrors(inst)) handedness = -handedness;
+    }
     return glm::vec4(orthogonal_tangent(glm::vec3(t), n), handedness);
   }
   const bool set1 = normal_texture.texcoord == 1;
   const bool has_uv = set1 ? (flags & kHasTexcoords1) != 0 : (flags & kHasTexcoords) != 0;
   if (!has_uv) return glm::vec4(0.0f);
   const std::vector<glm::vec2>& texcoords = set1 ? scene.texcoords1 : scene.texcoords;
+  const TriangleCorners corners = drawn_corners(scene, std::uint32_t(tri), inst);
   glm::vec3 p[3];
   glm::vec2 uv[3];
   for (int k = 0; k < 3; ++k) {
-    p[k] = scene.triangles.vertex(std::uint32_t(tri), k);
+    p[k] = corners[std::size_t(k)];
     uv[k] = transform_uv(normal_texture, texcoords[3 * tri + std::size_t(k)]);
   }
   return triangle_tangent(p, uv, n);
@@ -58,7 +74,7 @@ glm::vec4 normal_map_frame(const Scene& scene, std::size_t tri, std::uint8_t fla
 
 float surface_coverage(const Scene& scene, const Ray& ray, const Hit& hit) {
   const Material& m = scene.materials[scene.material_id[hit.prim]];
-  if (culls_back_faces(m) && !hits_front_face(scene.triangles, hit.prim, ray.dir)) return 0.0f;
+  if (culls_back_faces(m) && !hits_front_face(scene, hit.prim, hit.instance, ray.dir)) return 0.0f;
   if (m.alpha_mode == AlphaMode::Opaque) return 1.0f;
   const std::size_t tri = hit.prim;
   const float w = 1.0f - hit.u - hit.v, u = hit.u, v = hit.v;
@@ -87,6 +103,7 @@ ShadingInputs evaluate_shading(const Scene& scene, const Ray& ray, const Hit& hi
   si.front_face = sp.front_face;
   si.material = sp.material;
   si.prim = hit.prim;
+  si.instance = hit.instance;
   if (flags & kHasTexcoords) si.uv0 = interpolate(scene.texcoords, tri, w, u, v);
   if ((flags & kHasTexcoords1) && !scene.texcoords1.empty()) si.uv1 = interpolate(scene.texcoords1, tri, w, u, v);
 
@@ -130,7 +147,7 @@ ShadingInputs evaluate_shading(const Scene& scene, const Ray& ray, const Hit& hi
   // map live, then flipped with the normals to the ray's side; w of the result's frame
   // gives the tangent.
   auto mapped = [&](const TextureRef& map, glm::vec3& tangent) {
-    glm::vec4 frame = normal_map_frame(scene, tri, flags, w, u, v, stored, map);
+    glm::vec4 frame = normal_map_frame(scene, tri, scene.instance_transform(hit.instance), flags, w, u, v, stored, map);
     if (frame.w == 0.0f) frame = glm::vec4(any_tangent(stored), 1.0f);
     const glm::vec3 texel(lookup(map, TexelEncoding::Linear));
     const glm::vec3 n = face_viewer(side * perturb_normal(stored, frame, texel, map.scale), sp.ng, wo);

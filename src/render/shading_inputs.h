@@ -77,6 +77,7 @@ struct ShadingInputs {
   bool front_face = true;  // the ray hit the side cross(b - a, c - a) points to
   const Material* material = nullptr;
   std::uint32_t prim = kNoHit;  // the triangle hit
+  std::uint32_t instance = kNoHit;  // and the instance it was drawn through (Hit::instance)
 };
 
 // Whether `m` is a thin wall (KHR_materials_volume, "Properties": thicknessFactor 0, the

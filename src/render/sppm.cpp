@@ -8,6 +8,7 @@
 #include "accel/ray_offset.h"
 #include "render/bsdf.h"
 #include "render/coverage.h"
+#include "render/drawn_triangle.h"
 #include "render/path_rules.h"
 #include "render/photon_walk.h"
 #include "render/shading_inputs.h"
@@ -82,7 +83,7 @@ SppmIntegrator::CameraPath SppmIntegrator::camera_path(const Ray& camera_ray, co
     if (emits_toward(*si.material, si.front_face) && !is_black(si.emission)) {
       float w = 1.0f;
       if (!prev_delta) {
-        const float pdf_area = area_lights_.pdf_area(hit.prim);
+        const float pdf_area = area_lights_.pdf_area(hit.prim, hit.instance);
         const float cos_l = std::abs(glm::dot(si.ng, dir));
         const float d = travelled + segment;
         if (pdf_area > 0.0f && cos_l > 0.0f) w = power_heuristic(prev_pdf, light_samples_ * (pdf_area * d * d / cos_l));
@@ -105,7 +106,7 @@ SppmIntegrator::CameraPath SppmIntegrator::camera_path(const Ray& camera_ray, co
       // Next-event estimation: MIS with the BSDF sample where the path goes on by sampling
       // the non-delta lobes, in full at a visible point (its BSDF is not sampled; the
       // photons bring only light that has bounced).
-      const SurfaceOffset leave(si.p, si.ng, triangle_corners(scene_.triangles, hit.prim));
+      const SurfaceOffset leave = leaving_offset(scene_, si.p, si.ng, hit.prim, hit.instance);
       next_event_estimation(scene_, area_lights_, environment_, light_samples_, si.p, sampler, dims, beta,
                             !visible_point, [&](const glm::vec3& wi) { return sc.evaluate(wi); },
                             [&](const ShadowAim& aim, const glm::vec3& contribution) {

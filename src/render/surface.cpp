@@ -4,6 +4,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "render/drawn_triangle.h"
+
 namespace lancer {
 
 glm::vec3 base_color_at(const Scene& /*scene*/, const Material& m, std::uint32_t /*prim*/, float /*u*/,
@@ -12,22 +14,24 @@ glm::vec3 base_color_at(const Scene& /*scene*/, const Material& m, std::uint32_t
   return glm::vec3(m.base_color);
 }
 
-bool hits_front_face(const TriangleSoA& tris, std::uint32_t prim, const glm::vec3& dir) {
-  const glm::vec3 a = tris.vertex(prim, 0);
-  const glm::vec3 ng = glm::cross(tris.vertex(prim, 1) - a, tris.vertex(prim, 2) - a);
+bool hits_front_face(const Scene& scene, std::uint32_t prim, std::uint32_t instance, const glm::vec3& dir) {
+  const Instance* inst = scene.instance_transform(instance);
+  const glm::vec3 ng = drawn_front_normal(drawn_corners(scene, prim, inst), inst);
   const float len = glm::length(ng);
   // make_surface_point's fallback normal, -dir, is met on its front side.
   return !(len > 0.0f && std::isfinite(len)) || glm::dot(ng / len, dir) <= 0.0f;
 }
 
 SurfacePoint make_surface_point(const Scene& scene, const Ray& ray, const Hit& hit) {
-  const TriangleSoA& tris = scene.triangles;
   const std::uint32_t i = hit.prim;
-  const glm::vec3 a = tris.vertex(i, 0), b = tris.vertex(i, 1), c = tris.vertex(i, 2);
+  const Instance* inst = scene.instance_transform(hit.instance);
+  const TriangleCorners corners = drawn_corners(scene, i, inst);
+  const glm::vec3 a = corners[0], b = corners[1], c = corners[2];
   const float w = 1.0f - hit.u - hit.v;
 
   SurfacePoint sp;
   sp.prim = i;
+  sp.instance = hit.instance;
   // In double: any barycentric combination lies on the triangle's plane, so only the
   // arithmetic can push p off it. In float that error scales with the vertices (a 2 km
   // floor puts p 1e-4 off the plane, beyond what offset_ray_origin allows for a point
@@ -37,13 +41,17 @@ SurfacePoint make_surface_point(const Scene& scene, const Ray& ray, const Hit& h
 
   // The scene builder drops zero-area triangles, so the cross product is non-zero; a
   // triangle too small for float still gets a usable normal from the direction alone.
-  glm::vec3 ng = glm::cross(b - a, c - a);
+  glm::vec3 ng = drawn_front_normal(corners, inst);
   const float len = glm::length(ng);
   ng = len > 0.0f && std::isfinite(len) ? ng / len : -glm::normalize(ray.dir);
 
   glm::vec3 ns = ng;
   if (i < scene.attrib_flags.size() && (scene.attrib_flags[i] & kHasNormals)) {
-    const glm::vec3* n = &scene.normals[3 * static_cast<std::size_t>(i)];
+    const glm::vec3* stored = &scene.normals[3 * static_cast<std::size_t>(i)];
+    glm::vec3 n[3] = {stored[0], stored[1], stored[2]};
+    // Each corner's normal in world space and unit, as a flattened copy stores it.
+    if (inst)
+      for (glm::vec3& nk : n) nk = glm::normalize(normal_to_world(inst, nk));
     const glm::vec3 interp = w * n[0] + hit.u * n[1] + hit.v * n[2];
     const float ilen = glm::length(interp);
     if (ilen > 1e-12f && std::isfinite(ilen)) ns = interp / ilen;

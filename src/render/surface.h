@@ -18,6 +18,7 @@ struct SurfacePoint {
   // Shading is two-sided; only emission depends on the side.
   bool front_face = true;
   std::uint32_t prim = kNoHit;
+  std::uint32_t instance = kNoHit;  // Hit::instance: drawn through scene.instancing's
   const Material* material = nullptr;
   glm::vec3 base_color{1.0f};  // linear
 
@@ -25,11 +26,11 @@ struct SurfacePoint {
   glm::vec3 stored_shading_normal() const { return front_face ? ns : -ns; }
 };
 
-// make_surface_point(...).front_face alone: whether a ray along `dir` meets triangle `prim`
-// on its front side.
-bool hits_front_face(const TriangleSoA& tris, std::uint32_t prim, const glm::vec3& dir);
+// make_surface_point(...).front_face alone: whether a ray along `dir` meets triangle `prim`,
+// drawn through `instance` (kNoHit: in world space), on its front side.
+bool hits_front_face(const Scene& scene, std::uint32_t prim, std::uint32_t instance, const glm::vec3& dir);
 
-// `hit` must be valid and come from `ray` against `scene.triangles`.
+// `hit` must be valid and come from `ray` against the scene's triangles (and instances).
 SurfacePoint make_surface_point(const Scene& scene, const Ray& ray, const Hit& hit);
 
 // Base colour of material `m` at barycentrics (u, v) of triangle `prim`, linear RGB:

@@ -12,6 +12,7 @@
 
 #include "accel/ray_offset.h"
 #include "render/bsdf.h"
+#include "render/drawn_triangle.h"
 #include "render/shading_inputs.h"
 
 namespace lancer {
@@ -33,7 +34,7 @@ inline Bsdf surface_bsdf(const ShadingInputs& si) {
 // far enough that it cannot hit it again, for this exact direction (ray_offset.h).
 inline Ray leaving_ray(const Scene& scene, const ShadingInputs& si, const glm::vec3& dir) {
   Ray r;
-  r.org = SurfaceOffset(si.p, si.ng, triangle_corners(scene.triangles, si.prim)).origin(dir);
+  r.org = leaving_offset(scene, si.p, si.ng, si.prim, si.instance).origin(dir);
   r.dir = dir;
   return r;
 }

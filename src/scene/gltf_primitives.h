@@ -43,6 +43,11 @@ class PrimitiveEmitter {
   // mesh index out of range.
   std::size_t triangle_bound(int mesh);
 
+  // The source id the next emitted triangle gets. A reader drawing a mesh through an
+  // instance moves it past the ids a flattened copy would have used.
+  std::uint32_t next_source_id() const { return next_source_id_; }
+  void set_next_source_id(std::uint32_t id) { next_source_id_ = id; }
+
  private:
   void emit_primitive(int mesh, int primitive, const glm::dmat4& world, const MeshPose& pose);
   std::uint32_t material_id(int material, const std::string& what);

@@ -24,6 +24,7 @@
 #include "scene/gltf_instancing.h"
 #include "scene/gltf_json_checks.h"
 #include "scene/gltf_materials.h"
+#include "scene/gltf_mesh_sharing.h"
 #include "scene/gltf_meshopt.h"
 #include "scene/gltf_nodes.h"
 #include "scene/gltf_primitives.h"
@@ -298,7 +299,8 @@ gltf::MeshPose mesh_pose(const ModelRef& m, int index, std::vector<glm::dmat4>& 
   return pose;
 }
 
-Scene scene_from_model(const tinygltf::Model& model, const std::string& file, int scene_index) {
+Scene scene_from_model(const tinygltf::Model& model, const std::string& file, int scene_index,
+                       InstancingMode instancing) {
   const ModelRef m{model, file, scene_index};
   // A required extension Lancer lacks was refused already (check_gltf_json); one the file
   // only uses is rendered without, and the user is told which.
@@ -313,44 +315,59 @@ Scene scene_from_model(const tinygltf::Model& model, const std::string& file, in
 
   SceneBuilder builder(scene, file);
   gltf::PrimitiveEmitter emitter(m, scene, builder);
+  gltf::MeshSharing sharing(m, scene, emitter, instancing);
   std::vector<glm::dmat4> worlds;  // of every node, for skins' joints (computed once, if needed)
-  for (const gltf::NodeInstance& inst : gltf::scene_nodes(m)) {
+  const std::vector<gltf::NodeInstance> nodes = gltf::scene_nodes(m);
+  // First which meshes are drawn often enough to share one copy, then the drawings.
+  for (const gltf::NodeInstance& inst : nodes) {
+    const tinygltf::Node& node = model.nodes[std::size_t(inst.node)];
+    if (node.mesh < 0) continue;
+    const gltf::MeshPose pose = mesh_pose(m, inst.node, worlds);
+    const bool posed = !pose.morph_weights.empty() || !pose.joints.empty();
+    // Counting needs only how many instances there are: no bound on copies yet.
+    const std::optional<std::vector<glm::dmat4>> instances = gltf::instance_transforms(m, inst.node, 0);
+    if (!instances) sharing.count(node.mesh, inst.world, posed);
+    if (instances)
+      for (const glm::dmat4& instance : *instances) sharing.count(node.mesh, inst.world * instance, posed);
+  }
+  for (const gltf::NodeInstance& inst : nodes) {
     const tinygltf::Node& node = model.nodes[std::size_t(inst.node)];
     if (node.mesh >= 0) {
       const gltf::MeshPose pose = mesh_pose(m, inst.node, worlds);
-      // Each instance is a copy of the mesh (there is no two-level acceleration structure
-      // yet): instance_transforms bounds the copies' triangles before any is made.
-      const std::optional<std::vector<glm::dmat4>> instances =
-          gltf::instance_transforms(m, inst.node, emitter.triangle_bound(node.mesh));
-      if (!instances) emitter.emit_mesh(node.mesh, inst.world, pose);
+      // Copies of a mesh that is not shared are bounded before any is made.
+      const std::optional<std::vector<glm::dmat4>> instances = gltf::instance_transforms(
+          m, inst.node, sharing.shared(node.mesh) ? 0 : emitter.triangle_bound(node.mesh));
+      if (!instances) sharing.draw(node.mesh, inst.world, pose);
       if (instances)
-        for (const glm::dmat4& instance : *instances) emitter.emit_mesh(node.mesh, inst.world * instance, pose);
+        for (const glm::dmat4& instance : *instances) sharing.draw(node.mesh, inst.world * instance, pose);
     }
     if (node.camera >= 0) add_camera(m, inst.node, node.camera, inst.world, scene);
     add_light(m, inst.node, inst.world, scene);
   }
+  sharing.finish();
   builder.finish();
   return scene;
 }
 
 }  // namespace
 
-Scene read_gltf(const std::filesystem::path& path, int scene, std::optional<double> frame_time) {
+Scene read_gltf(const std::filesystem::path& path, int scene, std::optional<double> frame_time,
+                InstancingMode instancing) {
   const std::string file = path.string();
   // The file's bytes are freed once parsed: tinygltf keeps its own copy of the buffers.
   tinygltf::Model model = load_model(read_whole_file(path, file), path, file);
   const AnimationRange animation = gltf::pose_animation(model, file, frame_time);
-  Scene result = scene_from_model(model, file, scene);
+  Scene result = scene_from_model(model, file, scene, instancing);
   result.animation = animation;
   return result;
 }
 
 Scene read_gltf_bytes(std::span<const unsigned char> bytes, const std::filesystem::path& path, int scene,
-                      std::optional<double> frame_time) {
+                      std::optional<double> frame_time, InstancingMode instancing) {
   const std::string file = path.string();
   tinygltf::Model model = load_model(bytes, path, file);
   const AnimationRange animation = gltf::pose_animation(model, file, frame_time);
-  Scene result = scene_from_model(model, file, scene);
+  Scene result = scene_from_model(model, file, scene, instancing);
   result.animation = animation;
   return result;
 }

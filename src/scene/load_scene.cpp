@@ -13,7 +13,8 @@
 
 namespace lancer {
 
-Scene load_scene(const std::filesystem::path& path, std::optional<int> gltf_scene, std::optional<double> frame_time) {
+Scene load_scene(const std::filesystem::path& path, std::optional<int> gltf_scene, std::optional<double> frame_time,
+                 InstancingMode instancing) {
   const std::string file = path.string();
   if (frame_time && !std::isfinite(*frame_time))
     throw SceneError(file, "--frame-time " + std::to_string(*frame_time) + ": not a time on the timeline");
@@ -26,7 +27,7 @@ Scene load_scene(const std::filesystem::path& path, std::optional<int> gltf_scen
   SceneWarningLog warnings;
   Scene scene;
   if (ext == ".gltf" || ext == ".glb") {
-    scene = read_gltf(path, gltf_scene.value_or(-1), frame_time);
+    scene = read_gltf(path, gltf_scene.value_or(-1), frame_time, instancing);
   } else if (ext == ".obj") {
     if (gltf_scene) throw SceneError(file, "--scene: an OBJ file has no scenes to choose from");
     if (frame_time) throw SceneError(file, "--frame-time: an OBJ file has no animation");

@@ -11,8 +11,10 @@ namespace lancer {
 // Throws SceneError naming the file and the problem. A scene with no triangles is an error.
 // `gltf_scene` (--scene) chooses one of a glTF file's scenes; an OBJ file has none to choose.
 // `frame_time` (--frame-time, seconds, finite) poses a glTF file's animation at that time;
-// an OBJ file has no animation.
+// an OBJ file has no animation. `instancing` (--instancing) says which of a glTF file's
+// meshes drawn more than once are stored once and drawn through instances; an OBJ file
+// draws each of its triangles once.
 Scene load_scene(const std::filesystem::path& path, std::optional<int> gltf_scene = std::nullopt,
-                 std::optional<double> frame_time = std::nullopt);
+                 std::optional<double> frame_time = std::nullopt, InstancingMode instancing = InstancingMode::Auto);
 
 }  // namespace lancer

@@ -16,6 +16,7 @@
 #include <glm/vec3.hpp>
 #include <glm/vec4.hpp>
 
+#include "accel/instances.h"
 #include "accel/triangle_soa.h"
 
 namespace lancer {
@@ -172,6 +173,12 @@ struct AnimationRange {
   double start = 0.0, end = 0.0;  // seconds: the first and last keyframe of any channel
 };
 
+// Whether meshes drawn more than once are stored once and drawn through instances
+// (`--instancing`): Auto when the copies would add at least kInstancingMinTriangles
+// triangles, On whenever a mesh is drawn twice, Off never (every copy in world space).
+enum class InstancingMode { Auto, On, Off };
+inline constexpr std::size_t kInstancingMinTriangles = std::size_t(1) << 16;
+
 struct Scene {
   std::string source;  // file it came from, or the procedural scene's name
   // What the reader warned about while loading (load_scene), one line each, without the
@@ -179,7 +186,15 @@ struct Scene {
   std::vector<std::string> warnings;
 
   // Geometry. Triangle i has corners 3i, 3i+1, 3i+2 in the per-corner arrays below.
+  // In world space, unless `instancing` is not empty: then each triangle belongs to one
+  // mesh, stored in its own space and drawn through instances, and every per-corner
+  // attribute below is in that space too.
   TriangleSoA triangles;
+  InstancedGeometry instancing;
+  // Per instance: what source_triangle_id of its mesh's triangles is offset by, so each
+  // drawing keeps the ids a flattened copy of the file would give (source_id()); kNoHit
+  // for an instance numbered past 2^32 drawn triangles.
+  std::vector<std::uint32_t> instance_source_base;
   std::vector<std::uint32_t> material_id;         // per triangle, index into materials
   std::vector<std::uint32_t> source_triangle_id;  // per triangle: position among the file's triangles
   std::vector<std::uint8_t> attrib_flags;         // per triangle, TriangleAttrib bits
@@ -200,8 +215,27 @@ struct Scene {
   LoadStats stats;
   AnimationRange animation;
 
+  // Triangles stored (a mesh drawn through many instances counts once).
   std::size_t triangle_count() const { return triangles.size(); }
-  Bounds3 bounds() const { return triangles.bounds(); }
+  // Triangles drawn: each instance counts its mesh's.
+  std::size_t drawn_triangle_count() const;
+  // World-space bounds of everything drawn.
+  Bounds3 bounds() const;
+  // The instance `instance` of a hit draws through, or null when the triangle is stored in
+  // world space (kNoHit, or an instance whose transforms are the identity).
+  const Instance* instance_transform(std::uint32_t instance) const {
+    if (instance == kNoHit) return nullptr;
+    const Instance& inst = instancing.instances[instance];
+    return inst.to_world.linear == glm::mat3(1.0f) && inst.to_world.offset == glm::vec3(0.0f) ? nullptr : &inst;
+  }
+  // The triangle's id among the file's triangles, as a flattened copy would number it
+  // (kNoHit past 2^32 drawn triangles).
+  std::uint32_t source_id(std::uint32_t prim, std::uint32_t instance) const {
+    const std::uint32_t local = prim < source_triangle_id.size() ? source_triangle_id[prim] : prim;
+    if (instance == kNoHit || instance >= instance_source_base.size()) return local;
+    const std::uint32_t base = instance_source_base[instance];
+    return base == kNoHit ? kNoHit : base + local;
+  }
 };
 
 }  // namespace lancer

@@ -242,6 +242,40 @@ TEST(Cli, InfoDescribesTheScene) {
     EXPECT_NE(r.out.find(stat), std::string::npos) << stat;
 }
 
+// A triangle drawn by two nodes: shared with --instancing on, copied with off; the render
+// summary counts the triangles drawn either way.
+TEST(Cli, InstancingOptionSharesMeshesDrawnTwice) {
+  const fs::path file = temp_dir() / "twice.gltf";
+  {
+    std::ofstream f(file);
+    f << R"({"asset": {"version": "2.0"},
+      "buffers": [{"byteLength": 36, "uri": "data:application/octet-stream;base64,AAAAAAAAAAAAAAAAAACAPwAAAAAAAAAAAAAAAAAAgD8AAAAA"}],
+      "bufferViews": [{"buffer": 0, "byteLength": 36}],
+      "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3",
+                     "min": [0, 0, 0], "max": [1, 1, 0]}],
+      "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+      "nodes": [{"mesh": 0}, {"mesh": 0, "translation": [2, 0, 0]}],
+      "scenes": [{"nodes": [0, 1]}], "scene": 0})";
+  }
+  const CliResult on = run({"info", file.string(), "--instancing", "on"});
+  ASSERT_EQ(on.code, 0) << on.err;
+  EXPECT_NE(on.out.find("triangles:  1 "), std::string::npos) << on.out;
+  EXPECT_NE(on.out.find("instances:  2 of 1 meshes, 2 triangles drawn"), std::string::npos) << on.out;
+  const CliResult off = run({"info", file.string(), "--instancing", "off"});
+  ASSERT_EQ(off.code, 0) << off.err;
+  EXPECT_NE(off.out.find("triangles:  2 "), std::string::npos) << off.out;
+  EXPECT_EQ(off.out.find("instances:"), std::string::npos) << off.out;
+  // Auto: two drawings of one triangle are cheaper copied.
+  EXPECT_EQ(run({"info", file.string()}).out.find("instances:"), std::string::npos);
+  const CliResult render = run({"render", file.string(), "-o", (temp_dir() / "twice.exr").string(), "--width", "16",
+                                "--spp", "1", "--no-progress", "--instancing", "on", "--integrator", "albedo"});
+  ASSERT_EQ(render.code, 0) << render.err;
+  EXPECT_NE(render.out.find("(2 triangles drawn)"), std::string::npos) << render.out;
+  const CliResult bad = run({"render", file.string(), "-o", "x.exr", "--instancing", "sometimes"});
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.err.find("--instancing"), std::string::npos) << bad.err;
+}
+
 TEST(Cli, InfoListsWhatTheReaderIgnored) {
   const fs::path obj = temp_dir() / "odd.obj";
   {

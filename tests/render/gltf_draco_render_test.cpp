@@ -71,16 +71,20 @@ TEST_F(GltfDracoRender, CompressedCopyGivesTheSameImage) {
 }
 
 TEST_F(GltfDracoRender, InstancesAreBoundedByTheDecodedFaces) {
-  // 20,000 instances of the sphere: below the instanced-triangle limit counted by its
-  // points (about 1,200 each), far above it by its 2,304 faces. The faces count.
+  // 20,000 copies of the sphere (--instancing off): below the instanced-triangle limit
+  // counted by its points (about 1,200 each), far above it by its 2,304 faces. The faces
+  // count. Drawn through instances (the default) they are one sphere and 20,000 transforms.
   const Mesh mesh = lumpy_sphere();
   GltfBuilder b = draco_copy(mesh);
   const int zeros = b.push("accessors", {{"componentType", GltfBuilder::kFloat}, {"count", 20000}, {"type", "VEC3"}});
   b.doc["nodes"][0]["extensions"] = {{"EXT_mesh_gpu_instancing", {{"attributes", {{"TRANSLATION", zeros}}}}}};
   b.doc["extensionsUsed"].push_back("EXT_mesh_gpu_instancing");
   b.write_data_uri_gltf(path("many.gltf"));
+  const Scene shared = read_gltf(path("many.gltf"));
+  EXPECT_EQ(shared.triangle_count(), 2304u);
+  EXPECT_EQ(shared.instancing.instances.size(), 20000u);
   try {
-    const Scene s = read_gltf(path("many.gltf"));
+    const Scene s = read_gltf(path("many.gltf"), -1, std::nullopt, InstancingMode::Off);
     ADD_FAILURE() << "made " << s.triangle_count() << " instanced triangles";
   } catch (const SceneError& e) {
     EXPECT_NE(std::string(e.what()).find("20000 instances of a mesh of up to 2304 triangles exceed the limit"),

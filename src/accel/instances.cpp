@@ -28,9 +28,12 @@ glm::dquat slerp_shorter(glm::dquat a, glm::dquat b, double f) {
   return glm::normalize(wa * a + wb * b);
 }
 
+// The rotation is normalised here, not only by the slerp, so a key's transforms are the
+// limit of its neighbours' (mat3_cast of a float quaternion a few ulps off unit length is
+// off a rotation by as much).
 Instance from_parts(std::uint32_t mesh, const glm::dquat& rotation, const glm::dmat3& stretch,
                     const glm::dvec3& translation) {
-  const glm::dmat3 linear = glm::mat3_cast(rotation) * stretch;
+  const glm::dmat3 linear = glm::mat3_cast(glm::normalize(rotation)) * stretch;
   const glm::dmat3 inverse = glm::inverse(linear);
   Instance inst;
   inst.mesh = mesh;
@@ -53,6 +56,13 @@ Instance instance_at(const InstancedGeometry& geometry, const Instance& inst, fl
   const std::size_t i = std::min(std::size_t(x), keys.size() - 2);
   const double f = x - double(i);
   const MotionKey &a = keys[i], &b = keys[i + 1];
+  // On a key, exactly its transforms: the blend would round them differently (and may flip
+  // the sign of a zero).
+  if (f == 0.0 || f == 1.0) {
+    Instance out = instance_from_key(inst.mesh, f == 0.0 ? a : b);
+    out.motion = inst.motion;
+    return out;
+  }
   const glm::dvec3 translation = glm::mix(glm::dvec3(a.translation), glm::dvec3(b.translation), f);
   const glm::dmat3 stretch = (1.0 - f) * glm::dmat3(a.stretch) + f * glm::dmat3(b.stretch);
   Instance out = from_parts(inst.mesh, slerp_shorter(glm::dquat(a.rotation), glm::dquat(b.rotation), f), stretch,

@@ -21,6 +21,16 @@
 // cell only when its best t lies below the cell's entry by more than t_slack(entry), where
 //   t_slack(t) = kTopRelativeSlack (|t| + max(E L) / max|dir|),
 // the maximum over the instances, 16 times the bottom trees' own slack.
+//
+// Moving instances. At time t the instance is instance_at(t), whose to_object is the
+// rounded inverse of the exact double transform rather than of the rounded to_world: one
+// more u L R |x| in the bound above, inside its factor 5. The argument holds at t with
+// that time's L, R, c and S, so it holds at every time with bounds over the shutter:
+// S from the box over the shutter, and L, R, c from the keys (two_level_motion.cpp:
+// rotation keeps 2-norms, a blend of stretches has 2-norm at most the largest key's and,
+// their symmetric parts all definite of one sign, smallest singular value at least the
+// smallest key's eigenvalue; sqrt(3) converts to infinity norms). alpha, beta and E L
+// use those, so one fat ray serves every time.
 #pragma once
 
 #include <cmath>

@@ -28,12 +28,11 @@ glm::dquat slerp_shorter(glm::dquat a, glm::dquat b, double f) {
   return glm::normalize(wa * a + wb * b);
 }
 
-// The rotation is normalised here, not only by the slerp, so a key's transforms are the
-// limit of its neighbours' (mat3_cast of a float quaternion a few ulps off unit length is
-// off a rotation by as much).
+// `rotation` must be unit: mat3_cast of a quaternion a few ulps off unit length is off a
+// rotation by as much.
 Instance from_parts(std::uint32_t mesh, const glm::dquat& rotation, const glm::dmat3& stretch,
                     const glm::dvec3& translation) {
-  const glm::dmat3 linear = glm::mat3_cast(glm::normalize(rotation)) * stretch;
+  const glm::dmat3 linear = glm::mat3_cast(rotation) * stretch;
   const glm::dmat3 inverse = glm::inverse(linear);
   Instance inst;
   inst.mesh = mesh;
@@ -44,8 +43,11 @@ Instance from_parts(std::uint32_t mesh, const glm::dquat& rotation, const glm::d
 
 }  // namespace
 
+// Normalised as the slerp normalises, so a key's transforms are the limit of its
+// neighbours' (a continuous path, which the accelerator's shutter boxes rely on).
 Instance instance_from_key(std::uint32_t mesh, const MotionKey& key) {
-  return from_parts(mesh, glm::dquat(key.rotation), glm::dmat3(key.stretch), glm::dvec3(key.translation));
+  return from_parts(mesh, glm::normalize(glm::dquat(key.rotation)), glm::dmat3(key.stretch),
+                    glm::dvec3(key.translation));
 }
 
 Instance instance_at(const InstancedGeometry& geometry, const Instance& inst, float time) {

@@ -52,17 +52,18 @@ void symmetric_eigenvalues(double a[3][3], double out[3]) {
   for (int k = 0; k < 3; ++k) out[k] = a[k][k];
 }
 
-// The signed eigenvalue of the stretch's symmetric part nearest zero, or 0 when that part
-// is not definite (eigenvalues of both signs, or one within rounding of zero).
+// The signed eigenvalue of the stretch's symmetric part nearest zero, moved towards zero
+// by more than Jacobi's error (measured below 2^-48 of the largest), or 0 when that part
+// is not definite (eigenvalues of both signs, or one within 2^-44 of the largest).
 double definite_part(const glm::mat3& stretch) {
   double h[3][3], e[3];
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c) h[r][c] = 0.5 * (double(stretch[c][r]) + double(stretch[r][c]));
   symmetric_eigenvalues(h, e);
   const double lo = std::fmin(e[0], std::fmin(e[1], e[2])), hi = std::fmax(e[0], std::fmax(e[1], e[2]));
-  const double largest = std::fmax(std::fabs(lo), std::fabs(hi)), slack = 0x1p-48 * largest;
-  if (lo > slack) return lo;
-  if (hi < -slack) return hi;
+  const double largest = std::fmax(std::fabs(lo), std::fabs(hi)), slack = 0x1p-44 * largest;
+  if (lo > 2.0 * slack) return lo - slack;
+  if (hi < -2.0 * slack) return hi + slack;
   return 0.0;
 }
 
@@ -133,8 +134,9 @@ void validate_motions(const InstancedGeometry& geometry) {
       if (!(std::fabs(q2 - 1.0) <= 0x1p-16)) throw std::invalid_argument(at + ": the rotation is not a unit quaternion");
       const double lambda = definite_part(key.stretch);
       if (lambda == 0.0)
-        throw std::invalid_argument(at + ": the stretch is not definite (a polar decomposition's is positive "
-                                         "definite, or negative definite for a mirroring transform)");
+        throw std::invalid_argument(at + ": the stretch is not definite, or nearly singular (a polar "
+                                         "decomposition's is positive definite, or negative definite for a "
+                                         "mirroring transform)");
       if (sign != 0.0 && (lambda > 0.0) != (sign > 0.0))
         throw std::invalid_argument(at + ": the stretch turns between mirroring and proper; the blend of the keys "
                                          "passes through a singular transform");

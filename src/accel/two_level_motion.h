@@ -13,7 +13,8 @@ namespace lancer::two_level {
 // geometry.motions, and every motion has at least two keys, all finite, with unit
 // quaternions (within 2^-16 in squared length), stretches whose symmetric parts are all
 // positive definite or all negative definite (proper or mirroring all the shutter long),
-// and transforms within the static instances' limits (2^40 either way) at every key.
+// each with eigenvalues within 2^44 of one another, and transforms within the static
+// instances' limits (2^40 either way) at every key.
 void validate_motions(const InstancedGeometry& geometry);
 
 // What the top level needs of a moving instance: its box over the shutter, widened as

@@ -232,6 +232,8 @@ TEST(TwoLevelMotionInput, InvalidMotionsThrow) {
     s.geometry.motions[m].keys[0].stretch = glm::mat3(1.0f);
     s.geometry.motions[m].keys[1].stretch = glm::mat3(-1.0f, 0, 0, 0, -1.0f, 0, 0, 0, 1.0f);
     expect_throw(s, "an indefinite stretch");
+    s.geometry.motions[m].keys[1].stretch = glm::mat3(1.0f, 0, 0, 0, 1.0f, 0, 0, 0, 1e-14f);
+    expect_throw(s, "a stretch nearly singular");
   }
   {
     InstancedScene s = good;

@@ -20,6 +20,7 @@ namespace lancer {
 namespace {
 
 using two_level::lowest_hit_in_cell;
+using two_level::fat_ray_meets_box;
 using two_level::setup_top_ray;
 using two_level::top_step;
 using two_level::TopPlan;
@@ -195,6 +196,10 @@ TwoLevelAccelerator::TwoLevelAccelerator(const TriangleSoA& tris, const Instance
     const double largest = std::fmax(e.x, std::fmax(e.y, e.z));
     extent_ = std::fmax(extent_, largest * linear_norm);
   }
+  // Kept for the moving instances' per-ray box test (fat_ray_meets_box).
+  moving_boxes_.assign(instances_.size(), Bounds3{});
+  for (std::size_t i = 0; i < instances_.size(); ++i)
+    if (instances_[i].motion != kNoHit) moving_boxes_[i] = boxes[i];
   top_ = TopLevelTree(boxes);
   build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
@@ -240,7 +245,8 @@ Hit TwoLevelAccelerator::intersect(const Ray& ray) const {
     const KdNode leaf = descend(tr, nodes, e, stack, sp);
     for (std::uint32_t k = 0; k < leaf.count(); ++k) {
       const std::uint32_t i = items[leaf.first_slot() + k];
-      if (mailbox.enter(i, 1) != 0) visit(i, ray, best);
+      if (mailbox.enter(i, 1) != 0 && (instances_[i].motion == kNoHit || fat_ray_meets_box(tr, moving_boxes_[i])))
+        visit(i, ray, best);
     }
   }
   return best;
@@ -271,7 +277,9 @@ bool TwoLevelAccelerator::occluded(const Ray& ray) const {
     const KdNode leaf = descend(tr, nodes, e, stack, sp);
     for (std::uint32_t k = 0; k < leaf.count(); ++k) {
       const std::uint32_t i = items[leaf.first_slot() + k];
-      if (mailbox.enter(i, 1) != 0 && blocked_by(i)) return true;
+      if (mailbox.enter(i, 1) != 0 &&
+          (instances_[i].motion == kNoHit || fat_ray_meets_box(tr, moving_boxes_[i])) && blocked_by(i))
+        return true;
     }
   }
   return false;
@@ -279,6 +287,7 @@ bool TwoLevelAccelerator::occluded(const Ray& ray) const {
 
 std::size_t TwoLevelAccelerator::memory_bytes() const {
   std::size_t bytes = top_.memory_bytes() + instances_.capacity() * sizeof(Instance) +
+                      moving_boxes_.capacity() * sizeof(Bounds3) +
                       mesh_first_.capacity() * sizeof(std::uint32_t) +
                       bottoms_.capacity() * sizeof(std::unique_ptr<Accelerator>);
   for (const auto& b : bottoms_)

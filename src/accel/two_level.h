@@ -78,6 +78,7 @@ class TwoLevelAccelerator final : public Accelerator {
   std::vector<std::uint32_t> mesh_first_;             // per mesh, its first triangle
   std::vector<std::unique_ptr<Accelerator>> bottoms_;  // per mesh, null when no instance draws it
   std::vector<std::unique_ptr<TriangleSoA>> kept_;     // per mesh, the copy a BruteForce bottom refers to
+  std::vector<Bounds3> moving_boxes_;  // per instance: its world box over the shutter if it moves
   TopLevelTree top_;
   double beta_ = 0.0;    // the fat ray's radius per unit of |org| (two_level_ray.h)
   double extent_ = 0.0;  // the largest mesh extent times its to_world norm (two_level_ray.h)

@@ -22,6 +22,7 @@ namespace lancer {
 namespace {
 
 using two_level::lowest_hit_in_cell;
+using two_level::fat_ray_meets_box;
 using two_level::setup_top_ray;
 using two_level::top_step;
 using two_level::TopPlan;
@@ -184,8 +185,10 @@ void TwoLevelAccelerator::intersect_packet64(const Ray* rays, Hit* hits, int cou
       const Instance& inst = instances_[i];
       LaneInstance lane_inst(motions_, inst);
       int n = 0;
+      const bool moves = inst.motion != kNoHit;
       for (std::uint64_t m = mailbox.enter(i, mask); m != 0; m &= m - 1) {
         const int k = std::countr_zero(m);
+        if (moves && !fat_ray_meets_box(p.rays[k], moving_boxes_[i])) continue;
         local[n] = ray_to_object(lane_inst.at(rays[k].time), rays[k]);
         if (hits[k].valid()) local[n].tfar = i < hits[k].instance ? std::nextafter(hits[k].t, kInfinity) : hits[k].t;
         lane_of[n++] = k;
@@ -243,8 +246,10 @@ void TwoLevelAccelerator::occluded_packet64(const Ray* rays, bool* occluded, int
       const Instance& inst = instances_[i];
       LaneInstance lane_inst(motions_, inst);
       int n = 0;
+      const bool moves = inst.motion != kNoHit;
       for (std::uint64_t m = mailbox.enter(i, mask); m != 0; m &= m - 1) {
         const int k = std::countr_zero(m);
+        if (moves && !fat_ray_meets_box(p.rays[k], moving_boxes_[i])) continue;
         local[n] = ray_to_object(lane_inst.at(rays[k].time), rays[k]);
         lane_of[n++] = k;
       }

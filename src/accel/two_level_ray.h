@@ -121,6 +121,27 @@ inline TopRay setup_top_ray(const Ray& ray, const Bounds3& root, double beta, do
   return tr;
 }
 
+// Whether the fat ray can meet `box` (an instance's widened world box, the one the top
+// level was built over) within its range [tmin, tmax]: setup_top_ray's clip against the
+// root, made against one box, so it passes wherever the top level's argument lets a hit
+// through. A lane that fails it need not enter a moving instance, whose transform at the
+// lane's time costs an interpolation (instance_at).
+inline bool fat_ray_meets_box(const TopRay& tr, const Bounds3& box) {
+  double t0 = tr.tmin, t1 = tr.tmax;
+  for (int a = 0; a < 3; ++a) {
+    const double lo = double(box.lo[a]) - tr.eps, hi = double(box.hi[a]) + tr.eps;
+    if (tr.parallel[a]) {
+      if (tr.org[a] < lo || tr.org[a] > hi) return false;
+      continue;
+    }
+    double ta = (lo - tr.org[a]) * tr.inv_dir[a], tb = (hi - tr.org[a]) * tr.inv_dir[a];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::fmax(t0, ta - std::fabs(ta) * kTopPlaneSlack);
+    t1 = std::fmin(t1, tb + std::fabs(tb) * kTopPlaneSlack);
+  }
+  return t0 <= t1;
+}
+
 // Which children of inner node (axis, split) the fat ray needs over [tmin, tmax]: the near
 // one (left unless `negative`, which must be the ray's own sign unless it is parallel) over
 // [tmin, near_max], the far one over [far_min, tmax]. A ray parallel to the plane keeps its

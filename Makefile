@@ -80,5 +80,6 @@ gallery: configure
 	$(GALLERY_RENDER) scenes/cornell-box-spheres.gltf -o docs/images/cornell-box-spheres.png
 	$(GALLERY_RENDER) scenes/textured/still-life.gltf -o docs/images/still-life.png
 	$(GALLERY_RENDER) scenes/cornell-box-dof.gltf -o docs/images/cornell-box-dof.png
+	$(GALLERY_RENDER) scenes/cornell-box-motion.gltf --shutter 0.3,0.7 -o docs/images/cornell-box-motion.png
 	$(LANCER) render scenes/cornell-box-spheres.gltf --integrator sppm --spp 256 --filter gaussian --no-progress \
 		-o docs/images/cornell-box-spheres-sppm.png

@@ -1,5 +1,7 @@
 #!/usr/bin/env python3
-"""Writes scenes/cornell-box.gltf and scenes/cornell-box-spheres.gltf.
+"""Writes scenes/cornell-box.gltf, scenes/cornell-box-spheres.gltf and
+scenes/cornell-box-motion.gltf (the box with a ball flying in an arc and the short block
+turning during the first second of an animation: a scene for --shutter).
 
 Geometry: the published "Cornell Box Data" of the Cornell Program of Computer
 Graphics (millimetres, converted here to metres with a scale of 0.001). The
@@ -64,6 +66,12 @@ GLASS_SPHERE_CENTRE_MM = (186.0, 100.0, 168.0)
 SPHERE_SLICES = 32
 SPHERE_STACKS = 16
 
+# Motion scene: a ball of radius 0.07 m thrown in an arc over the short block
+# (translation keys, metres, at 0, 0.5 and 1 s), and the short block turning 60 degrees
+# about its vertical axis over the same second.
+BALL_RADIUS_M = 0.07
+BALL_KEYS = ((0.0, (0.42, 0.10, 0.14)), (0.5, (0.31, 0.34, 0.14)), (1.0, (0.19, 0.27, 0.14)))
+SHORT_BLOCK_TURN_DEGREES = 60.0
 # Light radiance (W sr^-1 m^-2), the RGB value widely used for this box.
 LIGHT_RADIANCE = (17.0, 12.0, 4.0)
 
@@ -123,6 +131,7 @@ class Mesh:
     def __init__(self, name, material):
         self.name = name
         self.material = material
+        self.origin = None  # the node's translation (metres), positions relative to it
         self.positions = []
         self.normals = []
         self.indices = []
@@ -242,7 +251,9 @@ def materials(with_spheres):
         diffuse("green", (0.14, 0.45, 0.091)),
         light,
     ]
-    if with_spheres:
+    if with_spheres == "motion":
+        result.append(diffuse("blue", (0.15, 0.3, 0.8)))
+    elif with_spheres:
         result.append({
             "name": "mirror",
             "pbrMetallicRoughness": {"baseColorFactor": [0.95, 0.95, 0.95, 1.0],
@@ -263,7 +274,17 @@ def materials(with_spheres):
     return result
 
 
-def build_gltf(meshes, mats):
+def recentred(mesh):
+    """The mesh about its vertices' centre, which becomes its node's translation."""
+    n = len(mesh.positions)
+    centre = tuple(f32(sum(p[k] for p in mesh.positions) / n) for k in range(3))
+    mesh.positions = [tuple(f32(p[k] - centre[k]) for k in range(3)) for p in mesh.positions]
+    mesh.origin = centre
+    return mesh
+
+
+def build_gltf(meshes, mats, animations=()):
+    """animations: (mesh name, path, times, values) channels of one animation."""
     material_index = {m["name"]: i for i, m in enumerate(mats)}
     blob = bytearray()
     buffer_views = []
@@ -272,8 +293,10 @@ def build_gltf(meshes, mats):
     def add_view(data, target):
         while len(blob) % 4:
             blob.append(0)
-        buffer_views.append({"buffer": 0, "byteOffset": len(blob), "byteLength": len(data),
-                             "target": target})
+        view = {"buffer": 0, "byteOffset": len(blob), "byteLength": len(data)}
+        if target is not None:
+            view["target"] = target
+        buffer_views.append(view)
         blob.extend(data)
         return len(buffer_views) - 1
 
@@ -307,13 +330,29 @@ def build_gltf(meshes, mats):
             "mode": 4,
         }
         gltf_meshes.append({"name": mesh.name, "primitives": [primitive]})
-        nodes.append({"name": mesh.name, "mesh": len(gltf_meshes) - 1})
+        node = {"name": mesh.name, "mesh": len(gltf_meshes) - 1}
+        if mesh.origin is not None:
+            node["translation"] = list(mesh.origin)
+        nodes.append(node)
     nodes.append({
         "name": "camera",
         "camera": 0,
         "translation": list(to_metres(CAMERA_POSITION)),
         "rotation": list(CAMERA_ROTATION),
     })
+
+    samplers, channels = [], []
+    node_index = {node["name"]: i for i, node in enumerate(nodes)}
+    for name, path, times, values in animations:
+        width = len(values[0])
+        data = struct.pack("<%df" % len(times), *times)
+        accessors.append({"bufferView": add_view(data, None), "componentType": 5126, "count": len(times),
+                          "type": "SCALAR", "min": [f32(min(times))], "max": [f32(max(times))]})
+        data = b"".join(struct.pack("<%df" % width, *v) for v in values)
+        accessors.append({"bufferView": add_view(data, None), "componentType": 5126, "count": len(values),
+                          "type": "VEC3" if width == 3 else "VEC4"})
+        samplers.append({"input": len(accessors) - 2, "output": len(accessors) - 1, "interpolation": "LINEAR"})
+        channels.append({"sampler": len(samplers) - 1, "target": {"node": node_index[name], "path": path}})
 
     extensions = sorted({ext for m in mats for ext in m.get("extensions", {})})
     gltf = {
@@ -332,6 +371,8 @@ def build_gltf(meshes, mats):
         "buffers": [{"byteLength": len(blob),
                      "uri": "data:application/octet-stream;base64," + base64.b64encode(bytes(blob)).decode("ascii")}],
     }
+    if channels:
+        gltf["animations"] = [{"name": "motion", "samplers": samplers, "channels": channels}]
     return json.dumps(round_floats(gltf), indent=2) + "\n"
 
 
@@ -346,7 +387,23 @@ def main():
     ]
     spheres_text = build_gltf(spheres, materials(with_spheres=True))
 
-    for name, text in (("cornell-box.gltf", box), ("cornell-box-spheres.gltf", spheres_text)):
+    motion_meshes = box_meshes(with_blocks=False)
+    tall = Mesh("tall_block", "white")
+    add_block(tall, TALL_BLOCK)
+    short = Mesh("short_block", "white")
+    add_block(short, SHORT_BLOCK)
+    ball = uv_sphere("ball", "blue", (0.0, 0.0, 0.0), BALL_RADIUS_M, SPHERE_SLICES, SPHERE_STACKS)
+    ball.origin = BALL_KEYS[0][1]
+    motion_meshes += [tall, recentred(short), ball]
+    half_turn = math.radians(SHORT_BLOCK_TURN_DEGREES) / 2.0
+    turn = [(0.0, 0.0, 0.0, 1.0), (0.0, math.sin(half_turn), 0.0, math.cos(half_turn))]
+    motion_text = build_gltf(motion_meshes, materials(with_spheres="motion"), animations=(
+        ("ball", "translation", [t for t, _ in BALL_KEYS], [p for _, p in BALL_KEYS]),
+        ("short_block", "rotation", [0.0, 1.0], turn),
+    ))
+
+    for name, text in (("cornell-box.gltf", box), ("cornell-box-spheres.gltf", spheres_text),
+                       ("cornell-box-motion.gltf", motion_text)):
         path = os.path.join(out_dir, name)
         with open(path, "w", encoding="ascii", newline="\n") as f:
             f.write(text)

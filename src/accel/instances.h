@@ -9,6 +9,7 @@
 #include <optional>
 #include <vector>
 
+#include <glm/gtc/quaternion.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/vec3.hpp>
 
@@ -39,17 +40,37 @@ struct Affine {
 };
 
 // One drawing of mesh `mesh`. to_object is the inverse of to_world (computed in double,
-// then rounded), and to_world's linear part is invertible.
+// then rounded), and to_world's linear part is invertible. A moving instance (`motion` an
+// index into InstancedGeometry::motions) has these at shutter open, and instance_at gives
+// them at any time.
 struct Instance {
   std::uint32_t mesh = 0;
   Affine to_world;
   Affine to_object;
+  std::uint32_t motion = kNoHit;
+};
+
+// A transform as moving geometry interpolates it: translation, and the polar decomposition
+// linear = rotation * stretch (Shoemake & Duff, "Matrix Animation and Polar Decomposition",
+// Graphics Interface 1992), the rotation proper (a mirror stays in the stretch, which is
+// symmetric).
+struct MotionKey {
+  glm::vec3 translation{0.0f};
+  glm::quat rotation{1.0f, 0.0f, 0.0f, 0.0f};  // unit, w first
+  glm::mat3 stretch{1.0f};
+};
+
+// A moving instance's transform at evenly spaced times from shutter open (time 0, keys[0])
+// to close (time 1, keys.back()), at least two keys. Between neighbours translation and
+// stretch are interpolated linearly, rotation by slerp on the shorter arc.
+struct InstanceMotion {
+  std::vector<MotionKey> keys;
 };
 
 // The ray as the accelerator traces it inside `inst`: origin and direction in object space,
 // the same tnear and tfar (the direction is not renormalised, so t keeps its meaning).
 inline Ray ray_to_object(const Instance& inst, const Ray& ray) {
-  return Ray{inst.to_object.point(ray.org), ray.tnear, inst.to_object.vector(ray.dir), ray.tfar};
+  return Ray{inst.to_object.point(ray.org), ray.tnear, inst.to_object.vector(ray.dir), ray.tfar, ray.time};
 }
 
 // A scene whose triangles are drawn through instances. Empty: the triangles are in world
@@ -58,8 +79,18 @@ inline Ray ray_to_object(const Instance& inst, const Ray& ray) {
 struct InstancedGeometry {
   std::vector<MeshRange> meshes;
   std::vector<Instance> instances;
+  std::vector<InstanceMotion> motions;  // of the moving instances (Instance::motion)
 
   bool empty() const { return instances.empty(); }
 };
+
+// The transforms of `key` (to_world from it, to_object its inverse, both computed in double
+// and rounded once): the one routine the accelerator and the renderer's ray offsets use.
+Instance instance_from_key(std::uint32_t mesh, const MotionKey& key);
+
+// `inst` at `time` in [0, 1] (clamped; NaN counts as 0): itself when it does not move, else
+// its motion's keys interpolated and made an Instance by instance_from_key. Deterministic:
+// the same time gives the same bits wherever it is called.
+Instance instance_at(const InstancedGeometry& geometry, const Instance& inst, float time);
 
 }  // namespace lancer

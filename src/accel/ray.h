@@ -17,6 +17,9 @@ struct Ray {
   float tnear = 0.0f;
   glm::vec3 dir{0.0f, 0.0f, 1.0f};
   float tfar = kInfinity;
+  // Where in the shutter the ray is traced, from open (0) to close (1): moving instances
+  // (InstancedGeometry::motions) are met where they are then. 0 for a still scene.
+  float time = 0.0f;
 };
 
 // Closest hit. (u, v) are the barycentric weights of the triangle's second and third

@@ -206,8 +206,13 @@ inline double required_height(const TriangleCorners& v, const glm::vec3& o, cons
 // ray_to_object's very float operations, with the direction moved likewise.
 class SurfaceOffset {
  public:
-  SurfaceOffset(const glm::vec3& p, const glm::vec3& n, const TriangleCorners& tri, const Instance* inst = nullptr)
-      : tri_(tri), p_(inst ? to_object_point(*inst, p) : p), n_(n), p_world_(p), inst_(inst), corner_(tri[0]) {
+  //
+  // `time`: where in the shutter the rays leave (Ray::time, kept for the shadow rays made
+  // from this offset); `inst` must be the instance as it is at that time (instance_at).
+  SurfaceOffset(const glm::vec3& p, const glm::vec3& n, const TriangleCorners& tri, const Instance* inst = nullptr,
+                float time = 0.0f)
+      : tri_(tri), p_(inst ? to_object_point(*inst, p) : p), n_(n), p_world_(p), has_inst_(inst != nullptr),
+        inst_(inst ? *inst : Instance{}), time_(time), corner_(tri[0]) {
     // The plane in double. Differences of floats are exact there (or nearly), so each
     // component of the cross product is off by at most its two products' roundings: the
     // normal is good to a few 2^-53 per component, and exact for an axis-aligned plane.
@@ -237,6 +242,8 @@ class SurfaceOffset {
   // traced with (the bound follows the kernel's arithmetic on it). A ray within about 1e-6
   // of tangent may need up to |n . dir| times the distance its line takes to leave the
   // triangle.
+  float time() const { return time_; }
+
   glm::vec3 origin(const glm::vec3& dir) const {
     return solve(dir, [&](const glm::vec3&) { return dir; });
   }
@@ -263,7 +270,7 @@ class SurfaceOffset {
   bool start(const glm::vec3& dir, Start& s) const {
     using namespace ray_offset_detail;
     if (!valid_ || !usable(dir)) return false;
-    const double toward = glm::dot(glm::dvec3(inst_ ? inst_->to_object.vector(dir) : dir), normal_);
+    const double toward = glm::dot(glm::dvec3(has_inst_ ? inst_.to_object.vector(dir) : dir), normal_);
     const bool flip = toward < 0.0 || (toward == 0.0 && glm::dot(glm::dvec3(n_), normal_) < 0.0);
     s.normal = flip ? -normal_ : normal_;
     // How far p lies on the wrong side of the plane, at most.
@@ -288,9 +295,9 @@ class SurfaceOffset {
     for (int attempt = 0; attempt < 64; ++attempt) {
       o = glm::vec3(glm::dvec3(p_) + h * normal);
       // Through an instance: the world origin, and the origin and direction the kernel sees.
-      const glm::vec3 world = inst_ ? inst_->to_world.point(o) : o;
-      if (inst_) o = inst_->to_object.point(world);
-      const glm::vec3 d = inst_ ? inst_->to_object.vector(dir_for(world)) : dir_for(o);
+      const glm::vec3 world = has_inst_ ? inst_.to_world.point(o) : o;
+      if (has_inst_) o = inst_.to_object.point(world);
+      const glm::vec3 d = has_inst_ ? inst_.to_object.vector(dir_for(world)) : dir_for(o);
       if (!usable(d)) break;
       if (d != sheared) {
         // Every permutation the kernel could pick for d (a near tie may go either way).
@@ -310,7 +317,7 @@ class SurfaceOffset {
       h = std::max(2.0 * h, std::isfinite(need) ? 1.25 * need + 2.0 * deficit + o_rounding_
                                                 : gamma(4) * extent_);
     }
-    return inst_ ? inst_->to_world.point(o) : o;  // not reached for finite input: the line leaves the triangle long before
+    return has_inst_ ? inst_.to_world.point(o) : o;  // not reached for finite input: the line leaves the triangle long before
   }
 
   // p in the instance's space, rounded once from a double evaluation.
@@ -348,7 +355,9 @@ class SurfaceOffset {
   TriangleCorners tri_;
   glm::vec3 p_, n_;  // p_ in the triangle's space, n_ in world space
   glm::vec3 p_world_;
-  const Instance* inst_ = nullptr;
+  bool has_inst_ = false;
+  Instance inst_;  // a copy: a moving instance's transform exists only for this time
+  float time_ = 0.0f;
   glm::dvec3 corner_, normal_{0.0}, height_error_weights_{0.0};
   double p_height_ = 0.0, p_height_error_ = 0.0, extent_ = 0.0, o_rounding_ = 0.0;
   bool valid_ = false;

@@ -63,7 +63,7 @@ void copy_lane(Lanes& lanes, int from, int to) {
 bool SurfaceOffset::fill_lane(const glm::vec3& target, bool towards, ray_offset_batch::Lanes& lanes, int i) const {
   Start st;
   // The batch solvers know no instance: a triangle drawn through one is solved in solve().
-  if (inst_ || !start(towards ? target - p_ : target, st)) return false;
+  if (has_inst_ || !start(towards ? target - p_ : target, st)) return false;
   for (int v = 0; v < 3; ++v) {
     lanes.tri[3 * v][i] = tri_[static_cast<std::size_t>(v)].x;
     lanes.tri[3 * v + 1][i] = tri_[static_cast<std::size_t>(v)].y;

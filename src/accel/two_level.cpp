@@ -11,6 +11,8 @@
 
 #include "accel/brute_force.h"
 #include "accel/kd_tree.h"
+#include "accel/two_level_motion.h"
+#include "accel/two_level_norms.h"
 #include "accel/two_level_ray.h"
 
 namespace lancer {
@@ -18,34 +20,16 @@ namespace lancer {
 namespace {
 
 using two_level::lowest_hit_in_cell;
+using two_level::fat_ray_meets_box;
 using two_level::setup_top_ray;
 using two_level::top_step;
 using two_level::TopPlan;
 using two_level::TopRay;
 using two_level::TopStep;
 
-// Transforms beyond this scale either way are refused: the error bound of two_level_ray.h
-// assumes ray_to_object neither overflows nor underflows for the rays it traverses.
-constexpr double kMaxNorm = 0x1p40;
-
-// Infinity norm (largest row sum of magnitudes) of a column-major glm matrix.
-double norm_inf(const glm::mat3& m) {
-  double n = 0.0;
-  for (int row = 0; row < 3; ++row)
-    n = std::fmax(n, std::fabs(double(m[0][row])) + std::fabs(double(m[1][row])) + std::fabs(double(m[2][row])));
-  return n;
-}
-
-double norm_inf(const glm::vec3& v) {
-  return std::fmax(std::fabs(double(v.x)), std::fmax(std::fabs(double(v.y)), std::fabs(double(v.z))));
-}
-
-bool finite(const Affine& t) {
-  for (int c = 0; c < 3; ++c)
-    for (int r = 0; r < 3; ++r)
-      if (!std::isfinite(t.linear[c][r])) return false;
-  return std::isfinite(t.offset.x) && std::isfinite(t.offset.y) && std::isfinite(t.offset.z);
-}
+using two_level::finite;
+using two_level::kMaxNorm;
+using two_level::norm_inf;
 
 void validate(const TriangleSoA& tris, const InstancedGeometry& geometry) {
   for (std::size_t m = 0; m < geometry.meshes.size(); ++m) {
@@ -168,6 +152,7 @@ TwoLevelAccelerator::TwoLevelAccelerator(const TriangleSoA& tris, const Instance
     throw std::invalid_argument("two-level: unknown bottom-level accelerator '" + std::string(bottom) + "'");
   }
   validate(tris, geometry);
+  two_level::validate_motions(geometry);
 
   const std::size_t mesh_count = geometry.meshes.size();
   std::vector<bool> used(mesh_count, false);
@@ -192,16 +177,29 @@ TwoLevelAccelerator::TwoLevelAccelerator(const TriangleSoA& tris, const Instance
   });
 
   instances_ = geometry.instances;
+  motions_.motions = geometry.motions;
   std::vector<Bounds3> boxes(instances_.size());
   for (std::size_t i = 0; i < instances_.size(); ++i) {
     const Bounds3& object = object_boxes[instances_[i].mesh];
-    double beta = 0.0;
-    boxes[i] = world_box(instances_[i], object, beta);
+    double beta = 0.0, linear_norm = 0.0;
+    if (instances_[i].motion == kNoHit) {
+      boxes[i] = world_box(instances_[i], object, beta);
+      linear_norm = norm_inf(instances_[i].to_world.linear);
+    } else {
+      const two_level::ShutterBounds b = two_level::shutter_bounds(geometry, instances_[i], object);
+      boxes[i] = b.box;
+      beta = b.beta;
+      linear_norm = b.linear_norm;
+    }
     beta_ = std::fmax(beta_, beta);
     const glm::vec3 e = object.extent();
     const double largest = std::fmax(e.x, std::fmax(e.y, e.z));
-    extent_ = std::fmax(extent_, largest * norm_inf(instances_[i].to_world.linear));
+    extent_ = std::fmax(extent_, largest * linear_norm);
   }
+  // Kept for the moving instances' per-ray box test (fat_ray_meets_box).
+  moving_boxes_.assign(instances_.size(), Bounds3{});
+  for (std::size_t i = 0; i < instances_.size(); ++i)
+    if (instances_[i].motion != kNoHit) moving_boxes_[i] = boxes[i];
   top_ = TopLevelTree(boxes);
   build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
@@ -216,7 +214,7 @@ std::size_t TwoLevelAccelerator::bottom_count() const {
 
 void TwoLevelAccelerator::visit(std::uint32_t i, const Ray& ray, Hit& best) const {
   const Instance& inst = instances_[i];
-  Ray r = ray_to_object(inst, ray);
+  Ray r = inst.motion == kNoHit ? ray_to_object(inst, ray) : ray_to_object(at_time(inst, ray.time), ray);
   if (best.valid()) r.tfar = i < best.instance ? std::nextafter(best.t, kInfinity) : best.t;
   Hit h = bottoms_[inst.mesh]->intersect(r);
   if (!h.valid()) return;
@@ -247,7 +245,8 @@ Hit TwoLevelAccelerator::intersect(const Ray& ray) const {
     const KdNode leaf = descend(tr, nodes, e, stack, sp);
     for (std::uint32_t k = 0; k < leaf.count(); ++k) {
       const std::uint32_t i = items[leaf.first_slot() + k];
-      if (mailbox.enter(i, 1) != 0) visit(i, ray, best);
+      if (mailbox.enter(i, 1) != 0 && (instances_[i].motion == kNoHit || fat_ray_meets_box(tr, moving_boxes_[i])))
+        visit(i, ray, best);
     }
   }
   return best;
@@ -257,7 +256,8 @@ bool TwoLevelAccelerator::occluded(const Ray& ray) const {
   const TopRay tr = setup_top_ray(ray, top_.bounds(), beta_, extent_);
   auto blocked_by = [&](std::uint32_t i) {
     const Instance& inst = instances_[i];
-    return bottoms_[inst.mesh]->occluded(ray_to_object(inst, ray));
+    const Ray r = inst.motion == kNoHit ? ray_to_object(inst, ray) : ray_to_object(at_time(inst, ray.time), ray);
+    return bottoms_[inst.mesh]->occluded(r);
   };
   if (tr.plan == TopPlan::Scan) {
     for (std::uint32_t i = 0; i < instances_.size(); ++i)
@@ -277,7 +277,9 @@ bool TwoLevelAccelerator::occluded(const Ray& ray) const {
     const KdNode leaf = descend(tr, nodes, e, stack, sp);
     for (std::uint32_t k = 0; k < leaf.count(); ++k) {
       const std::uint32_t i = items[leaf.first_slot() + k];
-      if (mailbox.enter(i, 1) != 0 && blocked_by(i)) return true;
+      if (mailbox.enter(i, 1) != 0 &&
+          (instances_[i].motion == kNoHit || fat_ray_meets_box(tr, moving_boxes_[i])) && blocked_by(i))
+        return true;
     }
   }
   return false;
@@ -285,10 +287,13 @@ bool TwoLevelAccelerator::occluded(const Ray& ray) const {
 
 std::size_t TwoLevelAccelerator::memory_bytes() const {
   std::size_t bytes = top_.memory_bytes() + instances_.capacity() * sizeof(Instance) +
+                      moving_boxes_.capacity() * sizeof(Bounds3) +
                       mesh_first_.capacity() * sizeof(std::uint32_t) +
                       bottoms_.capacity() * sizeof(std::unique_ptr<Accelerator>);
   for (const auto& b : bottoms_)
     if (b) bytes += b->memory_bytes();
+  bytes += motions_.motions.capacity() * sizeof(InstanceMotion);
+  for (const InstanceMotion& m : motions_.motions) bytes += m.keys.capacity() * sizeof(MotionKey);
   bytes += kept_.capacity() * sizeof(std::unique_ptr<TriangleSoA>);
   for (const auto& t : kept_)
     if (t) bytes += 9 * t->size() * sizeof(float);

@@ -11,6 +11,11 @@
 // in the mesh), Hit::instance the instance's. Why the top level never skips an instance
 // holding the answer: two_level_ray.h.
 //
+// Moving instances (Instance::motion, issue 19): one is entered with exactly
+// ray_to_object(instance_at(geometry, inst, ray.time), ray), each lane of a packet at its
+// own time, so the answers above hold at every time; its top-level box holds the mesh over
+// the whole shutter (two_level_motion.h). Static instances pay one branch for this.
+//
 // Traversal holds no lock and allocates nothing (fixed stacks, one entry per level); the
 // only virtual calls are one per bottom-level visit.
 #pragma once
@@ -35,7 +40,8 @@ class TwoLevelAccelerator final : public Accelerator {
   // `geometry` may be destroyed afterwards. Throws std::invalid_argument for an unknown
   // bottom, an ISA this CPU lacks, a mesh range outside `tris`, an instance of a mesh that
   // does not exist, a transform that is not finite, singular, or scales by more than 2^40
-  // either way, or a world box that overflows float.
+  // either way, a motion that validate_motions (two_level_motion.h) refuses, or a world box
+  // that overflows float.
   TwoLevelAccelerator(const TriangleSoA& tris, const InstancedGeometry& geometry, std::string_view bottom,
                       const KdBuildOptions& kd = {}, Isa isa = best_supported_isa());
   ~TwoLevelAccelerator() override;
@@ -64,10 +70,15 @@ class TwoLevelAccelerator final : public Accelerator {
   // Enters instance i with the tie rule above, updating `best`.
   void visit(std::uint32_t i, const Ray& ray, Hit& best) const;
 
+  // The instance as ray `time` meets it: itself when it does not move.
+  Instance at_time(const Instance& inst, float time) const { return instance_at(motions_, inst, time); }
+
   std::vector<Instance> instances_;
+  InstancedGeometry motions_;  // only its motions: what instance_at reads
   std::vector<std::uint32_t> mesh_first_;             // per mesh, its first triangle
   std::vector<std::unique_ptr<Accelerator>> bottoms_;  // per mesh, null when no instance draws it
   std::vector<std::unique_ptr<TriangleSoA>> kept_;     // per mesh, the copy a BruteForce bottom refers to
+  std::vector<Bounds3> moving_boxes_;  // per instance: its world box over the shutter if it moves
   TopLevelTree top_;
   double beta_ = 0.0;    // the fat ray's radius per unit of |org| (two_level_ray.h)
   double extent_ = 0.0;  // the largest mesh extent times its to_world norm (two_level_ray.h)

@@ -5,7 +5,9 @@
 // by the tie rule (two_level.h). A ray leaves a subtree under the same test as a single
 // ray, and the answer is the same lexicographic minimum whatever the visit order, so each
 // lane's result is intersect's bit for bit. Packets with mixed signs, and rays that the
-// single-ray path scans (two_level_ray.h), go one ray at a time.
+// single-ray path scans (two_level_ray.h), go one ray at a time. A moving instance is
+// entered by each lane at its own time (instance_at per lane, as a single ray would),
+// reusing the transform of the previous lane when the times are the same bits.
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -20,6 +22,7 @@ namespace lancer {
 namespace {
 
 using two_level::lowest_hit_in_cell;
+using two_level::fat_ray_meets_box;
 using two_level::setup_top_ray;
 using two_level::top_step;
 using two_level::TopPlan;
@@ -56,6 +59,31 @@ void setup_packet(const Ray* rays, int count, const Bounds3& root, double beta, 
     if (pos[a] && neg[a]) p.coherent = false;
   }
 }
+
+// instance_at for the lanes entering one instance, in turn: a lane whose time has the same
+// bits as the last one's reuses its transform (instance_at is deterministic, so the result
+// is the same bits either way). Static instances are themselves.
+class LaneInstance {
+ public:
+  LaneInstance(const InstancedGeometry& motions, const Instance& inst) : motions_(motions), inst_(inst) {}
+  const Instance& at(float time) {
+    if (inst_.motion == kNoHit) return inst_;
+    const std::uint32_t bits = std::bit_cast<std::uint32_t>(time);
+    if (!have_ || bits != bits_) {
+      moved_ = instance_at(motions_, inst_, time);
+      bits_ = bits;
+      have_ = true;
+    }
+    return moved_;
+  }
+
+ private:
+  const InstancedGeometry& motions_;
+  const Instance& inst_;
+  Instance moved_;
+  std::uint32_t bits_ = 0;
+  bool have_ = false;
+};
 
 // The shared stack: per entry a node and its lanes, per lane its interval.
 struct PacketStack {
@@ -155,10 +183,13 @@ void TwoLevelAccelerator::intersect_packet64(const Ray* rays, Hit* hits, int cou
     for (std::uint32_t j = 0; j < leaf.count(); ++j) {
       const std::uint32_t i = items[leaf.first_slot() + j];
       const Instance& inst = instances_[i];
+      LaneInstance lane_inst(motions_, inst);
       int n = 0;
+      const bool moves = inst.motion != kNoHit;
       for (std::uint64_t m = mailbox.enter(i, mask); m != 0; m &= m - 1) {
         const int k = std::countr_zero(m);
-        local[n] = ray_to_object(inst, rays[k]);
+        if (moves && !fat_ray_meets_box(p.rays[k], moving_boxes_[i])) continue;
+        local[n] = ray_to_object(lane_inst.at(rays[k].time), rays[k]);
         if (hits[k].valid()) local[n].tfar = i < hits[k].instance ? std::nextafter(hits[k].t, kInfinity) : hits[k].t;
         lane_of[n++] = k;
       }
@@ -213,10 +244,13 @@ void TwoLevelAccelerator::occluded_packet64(const Ray* rays, bool* occluded, int
     for (std::uint32_t j = 0; j < leaf.count() && mask != 0; ++j) {
       const std::uint32_t i = items[leaf.first_slot() + j];
       const Instance& inst = instances_[i];
+      LaneInstance lane_inst(motions_, inst);
       int n = 0;
+      const bool moves = inst.motion != kNoHit;
       for (std::uint64_t m = mailbox.enter(i, mask); m != 0; m &= m - 1) {
         const int k = std::countr_zero(m);
-        local[n] = ray_to_object(inst, rays[k]);
+        if (moves && !fat_ray_meets_box(p.rays[k], moving_boxes_[i])) continue;
+        local[n] = ray_to_object(lane_inst.at(rays[k].time), rays[k]);
         lane_of[n++] = k;
       }
       if (n == 0) continue;

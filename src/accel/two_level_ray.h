@@ -21,6 +21,16 @@
 // cell only when its best t lies below the cell's entry by more than t_slack(entry), where
 //   t_slack(t) = kTopRelativeSlack (|t| + max(E L) / max|dir|),
 // the maximum over the instances, 16 times the bottom trees' own slack.
+//
+// Moving instances. At time t the instance is instance_at(t), whose to_object is the
+// rounded inverse of the exact double transform rather than of the rounded to_world: one
+// more u L R |x| in the bound above, inside its factor 5. The argument holds at t with
+// that time's L, R, c and S, so it holds at every time with bounds over the shutter:
+// S from the box over the shutter, and L, R, c from the keys (two_level_motion.cpp:
+// rotation keeps 2-norms, a blend of stretches has 2-norm at most the largest key's and,
+// their symmetric parts all definite of one sign, smallest singular value at least the
+// smallest key's eigenvalue; sqrt(3) converts to infinity norms). alpha, beta and E L
+// use those, so one fat ray serves every time.
 #pragma once
 
 #include <cmath>
@@ -109,6 +119,27 @@ inline TopRay setup_top_ray(const Ray& ray, const Bounds3& root, double beta, do
   tr.tmin = t0;
   tr.tmax = t1;
   return tr;
+}
+
+// Whether the fat ray can meet `box` (an instance's widened world box, the one the top
+// level was built over) within its range [tmin, tmax]: setup_top_ray's clip against the
+// root, made against one box, so it passes wherever the top level's argument lets a hit
+// through. A lane that fails it need not enter a moving instance, whose transform at the
+// lane's time costs an interpolation (instance_at).
+inline bool fat_ray_meets_box(const TopRay& tr, const Bounds3& box) {
+  double t0 = tr.tmin, t1 = tr.tmax;
+  for (int a = 0; a < 3; ++a) {
+    const double lo = double(box.lo[a]) - tr.eps, hi = double(box.hi[a]) + tr.eps;
+    if (tr.parallel[a]) {
+      if (tr.org[a] < lo || tr.org[a] > hi) return false;
+      continue;
+    }
+    double ta = (lo - tr.org[a]) * tr.inv_dir[a], tb = (hi - tr.org[a]) * tr.inv_dir[a];
+    if (ta > tb) std::swap(ta, tb);
+    t0 = std::fmax(t0, ta - std::fabs(ta) * kTopPlaneSlack);
+    t1 = std::fmin(t1, tb + std::fabs(tb) * kTopPlaneSlack);
+  }
+  return t0 <= t1;
 }
 
 // Which children of inner node (axis, split) the fat ray needs over [tmin, tmax]: the near

@@ -175,6 +175,13 @@ void add_render_command(CLI::App& app, RenderOptions& opt) {
   render->add_option("--scene", opt.gltf_scene, "Number of the glTF scene to render (default: the file's default scene)")
       ->check(CLI::NonNegativeNumber);
   add_instancing_option(*render, opt.instancing);
+  render->add_option_function<std::vector<double>>(
+             "--shutter", [&opt](const std::vector<double>& v) { opt.shutter = v; },
+             "Motion blur: the shutter open from OPEN to CLOSE seconds on the first animation's timeline; what "
+             "moves then is blurred (path, whitted and debug integrators)")
+      ->expected(2)
+      ->delimiter(',')
+      ->type_name("OPEN,CLOSE");
   render->add_option("--frame-time", opt.frame_time,
                      "Pose an animated glTF file as its first animation has it at this time, in seconds (default: "
                      "each channel's first keyframe; held before the first and after the last)");

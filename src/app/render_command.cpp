@@ -146,7 +146,16 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
     }
 
     const auto t_load = std::chrono::steady_clock::now();
-    const Scene scene = load_scene(opt.scene, opt.gltf_scene, opt.frame_time, opt.instancing);
+    if ((opt.settings.integrator == IntegratorKind::Sppm || opt.settings.integrator == IntegratorKind::Photon) &&
+        opt.shutter)
+      throw std::invalid_argument("--shutter: motion blur works with the path, whitted and debug integrators, not " +
+                                  std::string(integrator_name(opt.settings.integrator)));
+    const std::optional<Shutter> shutter =
+        opt.shutter ? std::optional<Shutter>(Shutter{opt.shutter->at(0), opt.shutter->at(1)}) : std::nullopt;
+    const Scene scene = load_scene(opt.scene, opt.gltf_scene, opt.frame_time, opt.instancing, shutter);
+    if (rank == 0 && shutter && scene.instancing.motions.empty())
+      err << "lancer: warning: " << scene.source << ": nothing moves while the shutter is open (--shutter "
+          << shutter->open << "," << shutter->close << "): the image is a still\n";
     if (rank == 0) print_load_warnings(scene, err);  // (every rank loads the same scene: one says so)
     const bool lit_by_env = !opt.env_file.empty() || !opt.env_color.empty();
     if (rank == 0 && !has_light(scene) && !lit_by_env &&
@@ -163,6 +172,7 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
     PinholeCamera camera =
         choose_camera({opt.camera, opt.eye, opt.look_at, opt.up, opt.fov_degrees}, scene, s.width, s.height,
                       opt.height_given);
+    camera.set_shutter_open(shutter && shutter->close > shutter->open);
     if (opt.aperture || opt.focus_distance)
       camera.set_thin_lens(opt.aperture.value_or(camera.aperture_radius()),
                            opt.focus_distance.value_or(camera.focus_distance()));

@@ -28,6 +28,7 @@ struct RenderOptions {
   std::optional<int> camera;         // glTF camera index
   std::optional<int> gltf_scene;     // --scene: glTF scene index
   std::optional<double> frame_time;  // --frame-time: seconds on the animation's timeline
+  std::optional<std::vector<double>> shutter;  // --shutter OPEN,CLOSE: seconds on that timeline
   InstancingMode instancing = InstancingMode::Auto;  // --instancing
   std::optional<glm::vec3> eye, look_at, up;
   std::optional<float> fov_degrees;  // vertical

@@ -55,6 +55,7 @@ std::string label(const std::string& key) {
   if (key == "causticK") return "--caustic-k";
   if (key == "causticRadius") return "--caustic-radius";
   if (key == "frameTime") return "--frame-time";
+  if (key == "shutter") return "--shutter";
   return "--" + key;
 }
 
@@ -86,9 +87,12 @@ std::string scene_fingerprint(const std::string& file, const Scene& scene) {
   // Instances: a render resumed with other --instancing has other geometry (in rounding).
   h.add_u64(scene.instancing.meshes.size());
   for (const MeshRange& m : scene.instancing.meshes) h.add_u64(std::uint64_t(m.first) << 32 | m.count);
+  h.add_u64(scene.instancing.motions.size());
+  for (const InstanceMotion& motion : scene.instancing.motions) add_vector(h, motion.keys);
   h.add_u64(scene.instancing.instances.size());
   for (const Instance& inst : scene.instancing.instances) {
     h.add_u64(inst.mesh);
+    h.add_u64(inst.motion);
     for (const Affine* a : {&inst.to_world, &inst.to_object}) {
       h.add(&a->linear, sizeof a->linear);
       h.add(&a->offset, sizeof a->offset);
@@ -142,6 +146,7 @@ CheckpointFacts render_facts(const RenderOptions& options, const RenderSettings&
           {"camera", camera_text},
           {"environment", environment},
           {"frameTime", options.frame_time ? exact(*options.frame_time) : "none"},
+          {"shutter", options.shutter ? exact(options.shutter->at(0)) + "," + exact(options.shutter->at(1)) : "none"},
           // The caustic photon map's (--integrator photon; 0: its defaults, which follow the size).
           {"photons", std::to_string(settings.photons)},
           {"causticK", std::to_string(settings.caustic_k)},

@@ -49,11 +49,13 @@ PinholeCamera PinholeCamera::from_desc(const CameraDesc& desc, int width, int he
     const float aspect = static_cast<float>(width) / static_cast<float>(height);
     cam.x_axis_ = glm::normalize(cam.x_axis_) * (aspect * std::abs(desc.ymag) * (desc.xmag < 0.0f ? -1.0f : 1.0f));
     cam.y_axis_ = glm::normalize(cam.y_axis_) * desc.ymag;
+    cam.set_motion(desc.motion);
     return cam;
   }
   PinholeCamera cam = look_at(eye, eye + forward, up, desc.yfov, width, height);
   if (desc.aperture_radius)
     cam.set_thin_lens(*desc.aperture_radius, desc.focus_distance.value_or(std::numeric_limits<float>::infinity()));
+  cam.set_motion(desc.motion);
   return cam;
 }
 
@@ -126,6 +128,25 @@ glm::vec2 concentric_disk(glm::vec2 u) {
     phi = 2.0f * kQuarterPi - kQuarterPi * (a / b);
   }
   return {r * std::cos(phi), r * std::sin(phi)};
+}
+
+void PinholeCamera::set_motion(const std::vector<MotionKey>& keys) {
+  motion_ = {};
+  if (keys.empty()) return;
+  if (keys.size() < 2) throw std::invalid_argument("camera motion: at least two keys");
+  motion_.motions.push_back({keys});
+  moving_ = instance_from_key(0, keys.front());
+  moving_.motion = 0;
+  opening_ = instance_from_key(0, keys.front());
+}
+
+Ray PinholeCamera::moved(const Ray& ray) const {
+  if (!moves()) return ray;
+  const Instance now = instance_at(motion_, moving_, ray.time);
+  Ray out = ray;
+  out.org = now.to_world.point(opening_.to_object.point(ray.org));
+  out.dir = glm::normalize(now.to_world.vector(opening_.to_object.vector(ray.dir)));
+  return out;
 }
 
 }  // namespace lancer

@@ -52,6 +52,17 @@ class PinholeCamera {
   // in scene units, > 0, may be +infinity. Throws std::invalid_argument otherwise, and for
   // an orthographic camera with an aperture.
   void set_thin_lens(float aperture_radius, float focus_distance);
+  // Motion blur: the shutter stays open for a while, and each camera sample gets a time in
+  // it (Ray::time, stratified per pixel: PrimaryBlock). Closed (false): every ray at 0.
+  void set_shutter_open(bool open) { shutter_open_ = open; }
+  bool shutter_open() const { return shutter_open_; }
+  // A camera that moves while the shutter is open: camera_to_world at evenly spaced times
+  // over it (CameraDesc::motion, the first at the opening, where the camera was built).
+  // Empty: still. moved() carries a ray made as at the opening along that motion to its
+  // time (Ray::time), with instance_at's interpolation.
+  void set_motion(const std::vector<MotionKey>& keys);
+  bool moves() const { return !motion_.motions.empty(); }
+  Ray moved(const Ray& ray) const;
   bool orthographic() const { return orthographic_; }
   float aperture_radius() const { return aperture_radius_; }
   float focus_distance() const { return focus_distance_; }
@@ -73,6 +84,9 @@ class PinholeCamera {
   float aperture_radius_ = 0.0f;
   float focus_distance_ = std::numeric_limits<float>::infinity();
   bool orthographic_ = false;  // x_axis_ and y_axis_: the half extents in scene units
+  bool shutter_open_ = false;
+  InstancedGeometry motion_;  // one motion when the camera moves, else none
+  Instance moving_, opening_;  // the camera as a moving instance, and where it opens
 };
 
 // Shirley & Chiu's concentric map ("A Low Distortion Map Between Disk and Square", JGT

@@ -24,7 +24,7 @@ bool scene_has_coverage(const Scene& scene) {
 Ray continue_past(const Scene& scene, const Ray& ray, const Hit& hit) {
   const SurfacePoint sp = make_surface_point(scene, ray, hit);
   Ray next = ray;
-  next.org = leaving_offset(scene, sp.p, sp.ng, hit.prim, hit.instance).origin(ray.dir);
+  next.org = leaving_offset(scene, sp.p, sp.ng, hit.prim, hit.instance, ray.time).origin(ray.dir);
   // The new origin lies within a few ulps of the hit point, so the old end point is
   // reached after what remained of the old ray (the shadow rays' end points are shortened
   // by far more than that, kShadowShorten).

@@ -65,6 +65,7 @@ glm::vec3 ambient_occlusion(const Scene& scene, const Accelerator& accel, const 
     probe.org = origin;
     probe.dir = frame.to_world(local);
     probe.tfar = reach;
+    probe.time = si.time;
     open += shadow_visibility(scene, accel, probe, has_coverage, rays);
   }
   return glm::vec3(open / kAoRays);

@@ -17,6 +17,24 @@
 
 namespace lancer {
 
+// The transforms triangle hits through `instance` are drawn with at shutter time `time`
+// (Ray::time): nothing for world-space triangles, a moving instance where it is then.
+class DrawnInstance {
+ public:
+  DrawnInstance() = default;  // world space
+  DrawnInstance(const Scene& scene, std::uint32_t instance, float time) {
+    const Instance* inst = scene.instance_transform(instance);
+    if (inst == nullptr) return;
+    present_ = true;
+    value_ = inst->motion == kNoHit ? *inst : instance_at(scene.instancing, *inst, time);
+  }
+  const Instance* get() const { return present_ ? &value_ : nullptr; }
+
+ private:
+  Instance value_;
+  bool present_ = false;
+};
+
 inline TriangleCorners drawn_corners(const Scene& scene, std::uint32_t prim, const Instance* inst) {
   TriangleCorners c = triangle_corners(scene.triangles, prim);
   if (inst)
@@ -43,11 +61,13 @@ inline glm::vec3 drawn_front_normal(const TriangleCorners& c, const Instance* in
   return mirrors(inst) ? -n : n;
 }
 
-// Where rays leave the point p (world space, geometric normal n) of triangle `prim` drawn
-// through `instance`: the offset proven against the triangle as the accelerator traces it.
+// Where rays leave at shutter time `time` the point p (world space, geometric normal n) of
+// triangle `prim` drawn through `instance`: the offset proven against the triangle as the
+// accelerator traces it, and the time the rays made from it carry.
 inline SurfaceOffset leaving_offset(const Scene& scene, const glm::vec3& p, const glm::vec3& n, std::uint32_t prim,
-                                    std::uint32_t instance) {
-  return SurfaceOffset(p, n, triangle_corners(scene.triangles, prim), scene.instance_transform(instance));
+                                    std::uint32_t instance, float time) {
+  const DrawnInstance drawn(scene, instance, time);
+  return SurfaceOffset(p, n, triangle_corners(scene.triangles, prim), drawn.get(), time);
 }
 
 }  // namespace lancer

@@ -183,7 +183,7 @@ EmittedPhoton LightEmission::sample_area(float u_pick, glm::vec2 u_pos, glm::vec
   const glm::vec3 dir = cosine_hemisphere_direction(n, u_dir.x, u_dir.y);
   if (!(glm::dot(dir, n) > 0.0f)) return photon;
   photon.ray.dir = dir;
-  photon.ray.org = leaving_offset(scene_, s.point, n, s.prim, s.instance).origin(dir);
+  photon.ray.org = leaving_offset(scene_, s.point, n, s.prim, s.instance, 0.0f).origin(dir);
   set_power(photon, area_light_radiance(scene_, s, dir), kPi / (p_pick * double(s.pdf_area) * p_side));
   return photon;
 }

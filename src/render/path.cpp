@@ -123,7 +123,8 @@ void PathIntegrator::solve_origins_of_bounce(Scratch& scratch) const {
   }
   solve_origins(scratch.origin_requests.data(), scratch.origins.data(), static_cast<int>(n));
   for (std::size_t k = 0; k < shadows; ++k)
-    scratch.shadows[k].ray = shadow_ray(scratch.shadows[k].aim, scratch.origins[k]);
+    scratch.shadows[k].ray =
+        shadow_ray(scratch.shadows[k].aim, scratch.origins[k], scratch.leaves[scratch.shadows[k].leaf].time());
   for (std::size_t k = 0; k < scratch.next_rays.size(); ++k) scratch.next_rays[k].org = scratch.origins[shadows + k];
 }
 
@@ -224,12 +225,13 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
   // the ray cannot hit it again, for each ray's exact direction (ray_offset.h), solved for
   // the whole bounce at once (solve_origins_of_bounce).
   auto leave = [&] {
-    scratch.leaves.push_back(leaving_offset(scene_, si.p, si.ng, hit.prim, hit.instance));
+    scratch.leaves.push_back(leaving_offset(scene_, si));
     return static_cast<std::uint32_t>(scratch.leaves.size() - 1);
   };
   auto go_on = [&](const glm::vec3& next_dir, std::uint32_t from) {
     Ray next;  // its origin: solve_origins_of_bounce
     next.dir = next_dir;
+    next.time = ray.time;  // a path is one moment of the shutter
     ++ray_count;
     scratch.next_rays.push_back(next);
     scratch.next_leaves.push_back(from);

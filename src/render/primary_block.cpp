@@ -49,8 +49,14 @@ void PrimaryBlock::add(const PinholeCamera& camera, const PixelFilter& filter, c
       // The lens position, computed only for a thin lens (a pinhole ignores it).
       const glm::vec2 lens = camera.aperture_radius() > 0.0f ? sampler.get2(sampler.dimension()) : glm::vec2(0.0f);
       sampler.skip(2);
-      rays_[static_cast<std::size_t>(count_++)] =
-          camera.generate(static_cast<float>(x) + 0.5f + offset.x, static_cast<float>(y) + 0.5f + offset.y, lens);
+      Ray& ray = rays_[static_cast<std::size_t>(count_++)];
+      ray = camera.generate(static_cast<float>(x) + 0.5f + offset.x, static_cast<float>(y) + 0.5f + offset.y, lens);
+      // The shutter time, one more dimension only when the shutter is open: every other
+      // render keeps its samples.
+      if (camera.shutter_open()) {
+        ray.time = sampler.next1();
+        ray = camera.moved(ray);
+      }
     }
   }
   starts_[static_cast<std::size_t>(++blocks_)] = count_;

@@ -54,7 +54,8 @@ class PrimaryBlock {
   // row-major in the block, for every integrator: one SobolSampler per pixel, whose first
   // two dimensions place the sample in the pixel by the filter (filter importance sampling:
   // every sample weighs 1; the box filter jitters over the pixel's area) and the next two on
-  // the lens; the sampler then stays with the pixel for shading. Throws
+  // the lens, and when the camera's shutter is open one more to the ray's time; the sampler
+  // then stays with the pixel for shading. Throws
   // std::invalid_argument for an empty or too large block. generate() starts afresh with
   // this block; add() appends it after the blocks already there (at most kWavefrontBlocks).
   void generate(const PinholeCamera& camera, const PixelFilter& filter, const PixelBlock& block, int sample,

@@ -38,6 +38,11 @@ void check_render_settings(const Scene& scene, const PinholeCamera& camera, cons
   if (s.environment && s.integrator != IntegratorKind::Path && !sppm && !photon)
     fail("an environment lights only the path, sppm and photon integrators, not " +
          std::string(integrator_name(s.integrator)));
+  // Photons leave the lights with no time of their own, and a photon map gathers them at
+  // every time of the shutter: moving geometry would be met in the wrong place.
+  if ((sppm || photon) && (camera.shutter_open() || !scene.instancing.motions.empty()))
+    fail("motion blur (--shutter) works with the path, whitted and debug integrators, not " +
+         std::string(integrator_name(s.integrator)));
   const std::int64_t most_photons = photon ? kMaxCausticPhotons : kMaxPhotonsPerIteration;
   if (s.photons < 0 || s.photons > most_photons)
     fail(std::string(photon ? "caustic photons" : "photons per iteration") + " must be between 1 and " +

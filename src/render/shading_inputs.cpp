@@ -74,7 +74,7 @@ glm::vec4 normal_map_frame(const Scene& scene, std::size_t tri, const Instance* 
 
 float surface_coverage(const Scene& scene, const Ray& ray, const Hit& hit) {
   const Material& m = scene.materials[scene.material_id[hit.prim]];
-  if (culls_back_faces(m) && !hits_front_face(scene, hit.prim, hit.instance, ray.dir)) return 0.0f;
+  if (culls_back_faces(m) && !hits_front_face(scene, hit.prim, hit.instance, ray)) return 0.0f;
   if (m.alpha_mode == AlphaMode::Opaque) return 1.0f;
   const std::size_t tri = hit.prim;
   const float w = 1.0f - hit.u - hit.v, u = hit.u, v = hit.v;
@@ -92,7 +92,8 @@ float surface_coverage(const Scene& scene, const Ray& ray, const Hit& hit) {
 
 ShadingInputs evaluate_shading(const Scene& scene, const Ray& ray, const Hit& hit) {
   // Geometry exactly as the Whitted integrator sees it.
-  const SurfacePoint sp = make_surface_point(scene, ray, hit);
+  const DrawnInstance drawn(scene, hit.instance, ray.time);
+  const SurfacePoint sp = make_surface_point(scene, ray, hit, drawn.get());
   const std::size_t tri = hit.prim;
   const float w = 1.0f - hit.u - hit.v, u = hit.u, v = hit.v;
   const std::uint8_t flags = tri < scene.attrib_flags.size() ? scene.attrib_flags[tri] : 0;
@@ -104,6 +105,8 @@ ShadingInputs evaluate_shading(const Scene& scene, const Ray& ray, const Hit& hi
   si.material = sp.material;
   si.prim = hit.prim;
   si.instance = hit.instance;
+  si.time = ray.time;
+  si.drawn = drawn;
   if (flags & kHasTexcoords) si.uv0 = interpolate(scene.texcoords, tri, w, u, v);
   if ((flags & kHasTexcoords1) && !scene.texcoords1.empty()) si.uv1 = interpolate(scene.texcoords1, tri, w, u, v);
 
@@ -147,7 +150,7 @@ ShadingInputs evaluate_shading(const Scene& scene, const Ray& ray, const Hit& hi
   // map live, then flipped with the normals to the ray's side; w of the result's frame
   // gives the tangent.
   auto mapped = [&](const TextureRef& map, glm::vec3& tangent) {
-    glm::vec4 frame = normal_map_frame(scene, tri, scene.instance_transform(hit.instance), flags, w, u, v, stored, map);
+    glm::vec4 frame = normal_map_frame(scene, tri, drawn.get(), flags, w, u, v, stored, map);
     if (frame.w == 0.0f) frame = glm::vec4(any_tangent(stored), 1.0f);
     const glm::vec3 texel(lookup(map, TexelEncoding::Linear));
     const glm::vec3 n = face_viewer(side * perturb_normal(stored, frame, texel, map.scale), sp.ng, wo);

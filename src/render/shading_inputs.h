@@ -41,6 +41,7 @@
 #include <glm/vec3.hpp>
 
 #include "accel/ray.h"
+#include "render/drawn_triangle.h"
 #include "scene/scene.h"
 
 namespace lancer {
@@ -78,6 +79,9 @@ struct ShadingInputs {
   const Material* material = nullptr;
   std::uint32_t prim = kNoHit;  // the triangle hit
   std::uint32_t instance = kNoHit;  // and the instance it was drawn through (Hit::instance)
+  float time = 0.0f;                // the ray's shutter time (Ray::time), for the rays that leave
+  // The instance as drawn at that time (computed once per hit: a moving one interpolates).
+  DrawnInstance drawn;
 };
 
 // Whether `m` is a thin wall (KHR_materials_volume, "Properties": thicknessFactor 0, the
@@ -100,6 +104,12 @@ inline bool emits_toward(const Material& m, bool front_face) { return front_face
 
 // `hit` must be valid and come from `ray` against `scene.triangles`.
 ShadingInputs evaluate_shading(const Scene& scene, const Ray& ray, const Hit& hit);
+
+// Where rays leave the shading point: leaving_offset (drawn_triangle.h) for its triangle,
+// with the instance as evaluate_shading already moved it to the ray's time.
+inline SurfaceOffset leaving_offset(const Scene& scene, const ShadingInputs& si) {
+  return SurfaceOffset(si.p, si.ng, triangle_corners(scene.triangles, si.prim), si.drawn.get(), si.time);
+}
 
 // evaluate_shading(...).alpha alone, for the rays that only ask whether a surface is there
 // (render/coverage.h): 0 on a culled back face (culls_back_faces), else 1 for an OPAQUE

@@ -22,10 +22,11 @@ struct ShadowAim {
   float tfar = kInfinity;
 };
 
-// The shadow ray of `aim` from `origin`.
-inline Ray shadow_ray(const ShadowAim& aim, const glm::vec3& origin) {
+// The shadow ray of `aim` from `origin`, at shutter time `time` (its path's).
+inline Ray shadow_ray(const ShadowAim& aim, const glm::vec3& origin, float time) {
   Ray shadow;
   shadow.org = origin;
+  shadow.time = time;
   shadow.dir = aim.towards ? aim.target - origin : aim.target;
   shadow.tfar = aim.tfar;
   return shadow;
@@ -54,12 +55,12 @@ inline ShadowAim aim_at_punctual(const PunctualLight& light, const glm::vec3& wi
 inline Ray shadow_ray_to_area_light(const SurfaceOffset& leave, const glm::vec3& light_point,
                                     const glm::vec3& light_normal) {
   const ShadowAim aim = aim_at_area_light(light_point, light_normal);
-  return shadow_ray(aim, shadow_origin(leave, aim));
+  return shadow_ray(aim, shadow_origin(leave, aim), leave.time());
 }
 
 inline Ray shadow_ray_to_punctual(const SurfaceOffset& leave, const PunctualLight& light, const glm::vec3& wi) {
   const ShadowAim aim = aim_at_punctual(light, wi);
-  return shadow_ray(aim, shadow_origin(leave, aim));
+  return shadow_ray(aim, shadow_origin(leave, aim), leave.time());
 }
 
 }  // namespace lancer

@@ -106,11 +106,11 @@ SppmIntegrator::CameraPath SppmIntegrator::camera_path(const Ray& camera_ray, co
       // Next-event estimation: MIS with the BSDF sample where the path goes on by sampling
       // the non-delta lobes, in full at a visible point (its BSDF is not sampled; the
       // photons bring only light that has bounced).
-      const SurfaceOffset leave = leaving_offset(scene_, si.p, si.ng, hit.prim, hit.instance);
+      const SurfaceOffset leave = leaving_offset(scene_, si);
       next_event_estimation(scene_, area_lights_, environment_, light_samples_, si.p, sampler, dims, beta,
                             !visible_point, [&](const glm::vec3& wi) { return sc.evaluate(wi); },
                             [&](const ShadowAim& aim, const glm::vec3& contribution) {
-                              const Ray shadow = shadow_ray(aim, shadow_origin(leave, aim));
+                              const Ray shadow = shadow_ray(aim, shadow_origin(leave, aim), leave.time());
                               L += contribution * shadow_visibility(scene_, accel_, shadow, has_coverage_, rays);
                             });
     }

@@ -14,8 +14,10 @@ glm::vec3 base_color_at(const Scene& /*scene*/, const Material& m, std::uint32_t
   return glm::vec3(m.base_color);
 }
 
-bool hits_front_face(const Scene& scene, std::uint32_t prim, std::uint32_t instance, const glm::vec3& dir) {
-  const Instance* inst = scene.instance_transform(instance);
+bool hits_front_face(const Scene& scene, std::uint32_t prim, std::uint32_t instance, const Ray& ray) {
+  const DrawnInstance drawn(scene, instance, ray.time);
+  const Instance* inst = drawn.get();
+  const glm::vec3& dir = ray.dir;
   const glm::vec3 ng = drawn_front_normal(drawn_corners(scene, prim, inst), inst);
   const float len = glm::length(ng);
   // make_surface_point's fallback normal, -dir, is met on its front side.
@@ -23,8 +25,12 @@ bool hits_front_face(const Scene& scene, std::uint32_t prim, std::uint32_t insta
 }
 
 SurfacePoint make_surface_point(const Scene& scene, const Ray& ray, const Hit& hit) {
+  const DrawnInstance drawn(scene, hit.instance, ray.time);
+  return make_surface_point(scene, ray, hit, drawn.get());
+}
+
+SurfacePoint make_surface_point(const Scene& scene, const Ray& ray, const Hit& hit, const Instance* inst) {
   const std::uint32_t i = hit.prim;
-  const Instance* inst = scene.instance_transform(hit.instance);
   const TriangleCorners corners = drawn_corners(scene, i, inst);
   const glm::vec3 a = corners[0], b = corners[1], c = corners[2];
   const float w = 1.0f - hit.u - hit.v;

@@ -26,12 +26,15 @@ struct SurfacePoint {
   glm::vec3 stored_shading_normal() const { return front_face ? ns : -ns; }
 };
 
-// make_surface_point(...).front_face alone: whether a ray along `dir` meets triangle `prim`,
-// drawn through `instance` (kNoHit: in world space), on its front side.
-bool hits_front_face(const Scene& scene, std::uint32_t prim, std::uint32_t instance, const glm::vec3& dir);
+// make_surface_point(...).front_face alone: whether `ray` meets triangle `prim`, drawn
+// through `instance` (kNoHit: in world space) at the ray's time, on its front side.
+bool hits_front_face(const Scene& scene, std::uint32_t prim, std::uint32_t instance, const Ray& ray);
 
 // `hit` must be valid and come from `ray` against the scene's triangles (and instances).
 SurfacePoint make_surface_point(const Scene& scene, const Ray& ray, const Hit& hit);
+// The same with the hit's instance as drawn at the ray's time already at hand
+// (DrawnInstance::get(), render/drawn_triangle.h; null in world space).
+SurfacePoint make_surface_point(const Scene& scene, const Ray& ray, const Hit& hit, const Instance* drawn);
 
 // Base colour of material `m` at barycentrics (u, v) of triangle `prim`, linear RGB:
 // the material's factor only. Every integrator shades with evaluate_shading() in

@@ -34,8 +34,9 @@ inline Bsdf surface_bsdf(const ShadingInputs& si) {
 // far enough that it cannot hit it again, for this exact direction (ray_offset.h).
 inline Ray leaving_ray(const Scene& scene, const ShadingInputs& si, const glm::vec3& dir) {
   Ray r;
-  r.org = leaving_offset(scene, si.p, si.ng, si.prim, si.instance).origin(dir);
+  r.org = leaving_offset(scene, si).origin(dir);
   r.dir = dir;
+  r.time = si.time;
   return r;
 }
 

@@ -30,7 +30,7 @@ bool is_mirror(const ShadingInputs& si) { return si.metallic >= 0.5f && si.rough
 // The rays leaving the shading point: origins pushed off its triangle just far enough that
 // a ray cannot hit it again, for each ray's exact direction (ray_offset.h).
 SurfaceOffset leaving(const Scene& scene, const ShadingInputs& si) {
-  return leaving_offset(scene, si.p, si.ng, si.prim, si.instance);
+  return leaving_offset(scene, si);
 }
 
 

@@ -89,16 +89,17 @@ NodePose sample(const ModelRef& m, const tinygltf::Animation& a, std::size_t c, 
 
 }  // namespace
 
-AnimationRange pose_animation(tinygltf::Model& model, const std::string& file, std::optional<double> time) {
+AnimationRange pose_animation(tinygltf::Model& model, const std::string& file, std::optional<double> time,
+                              bool warn) {
   AnimationRange range;
   range.animations = model.animations.size();
   if (model.animations.empty()) {
-    if (time) print_scene_warnings(file, "the file has no animation: --frame-time changes nothing");
+    if (time && warn) print_scene_warnings(file, "the file has no animation: --frame-time changes nothing");
     return range;
   }
   const ModelRef m{model, file};
   const tinygltf::Animation& a = model.animations[0];
-  if (model.animations.size() > 1)
+  if (model.animations.size() > 1 && warn)
     print_scene_warnings(file, std::to_string(model.animations.size() - 1) +
                                    " animation(s) after the first ignored: the scene is posed by animation 0");
   // Read every channel before changing any node. Without a time, each channel's first
@@ -123,7 +124,8 @@ AnimationRange pose_animation(tinygltf::Model& model, const std::string& file, s
       continue;
     }
     if (!node.matrix.empty()) {
-      print_scene_warnings(file, "animation 0 channel " + std::to_string(c) + " animates node " +
+      if (warn)
+        print_scene_warnings(file, "animation 0 channel " + std::to_string(c) + " animates node " +
                                      std::to_string(p.node) + ", which has a matrix (glTF forbids it): channel ignored");
       continue;
     }

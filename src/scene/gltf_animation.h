@@ -22,7 +22,9 @@ namespace lancer::gltf {
 // animation is left as it is (with a warning when a time was given). A channel that targets
 // a node with a matrix (which glTF forbids) is skipped with a warning. Throws SceneError for
 // a malformed channel or sampler (times not finite or not increasing, outputs that do not
-// match the keyframes). Returns the animations' range (scene.h).
-AnimationRange pose_animation(tinygltf::Model& model, const std::string& file, std::optional<double> time);
+// match the keyframes). Returns the animations' range (scene.h). `warn` false: the same,
+// silently (a reader posing the file at several times warns once).
+AnimationRange pose_animation(tinygltf::Model& model, const std::string& file, std::optional<double> time,
+                              bool warn = true);
 
 }  // namespace lancer::gltf

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <fstream>
 #include <glm/geometric.hpp>
+#include <glm/matrix.hpp>
 #include <iterator>
 #include <limits>
 #include <numbers>
@@ -32,6 +33,7 @@
 #include "scene/gltf_webp.h"
 #include "scene/scene_builder.h"
 #include "scene/scene_error.h"
+#include "scene/scene_instancing.h"
 #include "scene/scene_warning.h"
 
 namespace lancer {
@@ -299,8 +301,37 @@ gltf::MeshPose mesh_pose(const ModelRef& m, int index, std::vector<glm::dmat4>& 
   return pose;
 }
 
+// Where the scene's nodes are at each of the shutter's kShutterSteps times: one scene_nodes
+// list per time, in the same order (the hierarchy does not move). Leaves the model posed
+// at the shutter's opening.
+std::vector<std::vector<gltf::NodeInstance>> nodes_over_shutter(tinygltf::Model& model, const std::string& file,
+                                                               int scene_index, const Shutter& shutter) {
+  std::vector<std::vector<gltf::NodeInstance>> steps;
+  for (int k = kShutterSteps - 1; k >= 0; --k) {
+    const double t = shutter.open + (shutter.close - shutter.open) * double(k) / double(kShutterSteps - 1);
+    gltf::pose_animation(model, file, t, /*warn=*/false);
+    steps.push_back(gltf::scene_nodes(ModelRef{model, file, scene_index}));
+  }
+  std::reverse(steps.begin(), steps.end());
+  return steps;
+}
+
+// The world matrices of drawing `index` (in scene_nodes order) over the shutter, times
+// `local` (an EXT_mesh_gpu_instancing transform); empty when it does not move.
+std::vector<glm::dmat4> drawing_motion(const std::vector<std::vector<gltf::NodeInstance>>& steps, std::size_t index,
+                                       const glm::dmat4& local) {
+  if (steps.empty()) return {};
+  bool moves = false;
+  for (const auto& step : steps) moves |= step[index].world != steps[0][index].world;
+  if (!moves) return {};
+  std::vector<glm::dmat4> worlds;
+  for (const auto& step : steps) worlds.push_back(step[index].world * local);
+  return worlds;
+}
+
 Scene scene_from_model(const tinygltf::Model& model, const std::string& file, int scene_index,
-                       InstancingMode instancing) {
+                       InstancingMode instancing,
+                       const std::vector<std::vector<gltf::NodeInstance>>& steps = {}) {
   const ModelRef m{model, file, scene_index};
   // A required extension Lancer lacks was refused already (check_gltf_json); one the file
   // only uses is rendered without, and the user is told which.
@@ -318,30 +349,49 @@ Scene scene_from_model(const tinygltf::Model& model, const std::string& file, in
   gltf::MeshSharing sharing(m, scene, emitter, instancing);
   std::vector<glm::dmat4> worlds;  // of every node, for skins' joints (computed once, if needed)
   const std::vector<gltf::NodeInstance> nodes = gltf::scene_nodes(m);
-  // First which meshes are drawn often enough to share one copy, then the drawings.
-  for (const gltf::NodeInstance& inst : nodes) {
+  // First which meshes are drawn often enough to share one copy (or move), then the drawings.
+  for (std::size_t j = 0; j < nodes.size(); ++j) {
+    const gltf::NodeInstance& inst = nodes[j];
     const tinygltf::Node& node = model.nodes[std::size_t(inst.node)];
     if (node.mesh < 0) continue;
     const gltf::MeshPose pose = mesh_pose(m, inst.node, worlds);
     const bool posed = !pose.morph_weights.empty() || !pose.joints.empty();
     // Counting needs only how many instances there are: no bound on copies yet.
     const std::optional<std::vector<glm::dmat4>> instances = gltf::instance_transforms(m, inst.node, 0);
-    if (!instances) sharing.count(node.mesh, inst.world, posed);
+    const bool moves = !drawing_motion(steps, j, glm::dmat4(1.0)).empty();
+    if (!instances) sharing.count(node.mesh, inst.world, posed, moves);
     if (instances)
-      for (const glm::dmat4& instance : *instances) sharing.count(node.mesh, inst.world * instance, posed);
+      for (const glm::dmat4& instance : *instances) sharing.count(node.mesh, inst.world * instance, posed, moves);
   }
-  for (const gltf::NodeInstance& inst : nodes) {
+  for (std::size_t j = 0; j < nodes.size(); ++j) {
+    const gltf::NodeInstance& inst = nodes[j];
     const tinygltf::Node& node = model.nodes[std::size_t(inst.node)];
     if (node.mesh >= 0) {
       const gltf::MeshPose pose = mesh_pose(m, inst.node, worlds);
       // Copies of a mesh that is not shared are bounded before any is made.
       const std::optional<std::vector<glm::dmat4>> instances = gltf::instance_transforms(
           m, inst.node, sharing.shared(node.mesh) ? 0 : emitter.triangle_bound(node.mesh));
-      if (!instances) sharing.draw(node.mesh, inst.world, pose);
+      if (!instances) sharing.draw(node.mesh, inst.world, pose, drawing_motion(steps, j, glm::dmat4(1.0)));
       if (instances)
-        for (const glm::dmat4& instance : *instances) sharing.draw(node.mesh, inst.world * instance, pose);
+        for (const glm::dmat4& instance : *instances)
+          sharing.draw(node.mesh, inst.world * instance, pose, drawing_motion(steps, j, instance));
     }
-    if (node.camera >= 0) add_camera(m, inst.node, node.camera, inst.world, scene);
+    if (node.camera >= 0) {
+      add_camera(m, inst.node, node.camera, inst.world, scene);
+      // A moving camera: its keys, unless a step's matrix cannot be one (then it stays).
+      for (const glm::dmat4& w : drawing_motion(steps, j, glm::dmat4(1.0))) {
+        const std::optional<MotionKey> key = motion_key(w);
+        std::vector<MotionKey>& keys = scene.cameras.back().motion;
+        if (!key || (!keys.empty() && (glm::determinant(key->stretch) < 0.0f) !=
+                                          (glm::determinant(keys[0].stretch) < 0.0f))) {
+          print_scene_warnings(file, "camera node " + std::to_string(inst.node) + " moves through a singular or "
+                                     "mirroring transform while the shutter is open: it stays where it opens");
+          keys.clear();
+          break;
+        }
+        keys.push_back(*key);
+      }
+    }
     add_light(m, inst.node, inst.world, scene);
   }
   sharing.finish();
@@ -351,25 +401,35 @@ Scene scene_from_model(const tinygltf::Model& model, const std::string& file, in
 
 }  // namespace
 
-Scene read_gltf(const std::filesystem::path& path, int scene, std::optional<double> frame_time,
-                InstancingMode instancing) {
-  const std::string file = path.string();
-  // The file's bytes are freed once parsed: tinygltf keeps its own copy of the buffers.
-  tinygltf::Model model = load_model(read_whole_file(path, file), path, file);
-  const AnimationRange animation = gltf::pose_animation(model, file, frame_time);
-  Scene result = scene_from_model(model, file, scene, instancing);
+namespace {
+
+// Posed at `frame_time` (or, with a shutter, at its opening with the motion over it).
+Scene scene_from_posed_model(tinygltf::Model& model, const std::string& file, int scene,
+                             std::optional<double> frame_time, InstancingMode instancing,
+                             std::optional<Shutter> shutter) {
+  const AnimationRange animation = gltf::pose_animation(model, file, shutter ? shutter->open : frame_time);
+  std::vector<std::vector<gltf::NodeInstance>> steps;
+  if (shutter && shutter->close > shutter->open) steps = nodes_over_shutter(model, file, scene, *shutter);
+  Scene result = scene_from_model(model, file, scene, instancing, steps);
   result.animation = animation;
   return result;
 }
 
+}  // namespace
+
+Scene read_gltf(const std::filesystem::path& path, int scene, std::optional<double> frame_time,
+                InstancingMode instancing, std::optional<Shutter> shutter) {
+  const std::string file = path.string();
+  // The file's bytes are freed once parsed: tinygltf keeps its own copy of the buffers.
+  tinygltf::Model model = load_model(read_whole_file(path, file), path, file);
+  return scene_from_posed_model(model, file, scene, frame_time, instancing, shutter);
+}
+
 Scene read_gltf_bytes(std::span<const unsigned char> bytes, const std::filesystem::path& path, int scene,
-                      std::optional<double> frame_time, InstancingMode instancing) {
+                      std::optional<double> frame_time, InstancingMode instancing, std::optional<Shutter> shutter) {
   const std::string file = path.string();
   tinygltf::Model model = load_model(bytes, path, file);
-  const AnimationRange animation = gltf::pose_animation(model, file, frame_time);
-  Scene result = scene_from_model(model, file, scene, instancing);
-  result.animation = animation;
-  return result;
+  return scene_from_posed_model(model, file, scene, frame_time, instancing, shutter);
 }
 
 }  // namespace lancer

@@ -13,8 +13,11 @@ namespace lancer {
 // `frame_time` (--frame-time, seconds, finite) poses a glTF file's animation at that time;
 // an OBJ file has no animation. `instancing` (--instancing) says which of a glTF file's
 // meshes drawn more than once are stored once and drawn through instances; an OBJ file
-// draws each of its triangles once.
+// draws each of its triangles once. `shutter` (--shutter) makes the drawings that move while
+// it is open move (Scene::instancing's motions); it excludes `frame_time`, and an OBJ file
+// has no animation.
 Scene load_scene(const std::filesystem::path& path, std::optional<int> gltf_scene = std::nullopt,
-                 std::optional<double> frame_time = std::nullopt, InstancingMode instancing = InstancingMode::Auto);
+                 std::optional<double> frame_time = std::nullopt, InstancingMode instancing = InstancingMode::Auto,
+                 std::optional<Shutter> shutter = std::nullopt);
 
 }  // namespace lancer

@@ -131,6 +131,9 @@ struct CameraDesc {
   // the plane in focus, both in scene units. No focus distance: focused at infinity.
   std::optional<float> aperture_radius;
   std::optional<float> focus_distance;
+  // --shutter: camera_to_world at the shutter's kShutterSteps times when the camera node
+  // moves while it is open (instances.h's keys); empty for a still camera.
+  std::vector<MotionKey> motion;
 };
 
 enum class LightType { Point, Spot, Directional };
@@ -179,6 +182,13 @@ struct AnimationRange {
 enum class InstancingMode { Auto, On, Off };
 inline constexpr std::size_t kInstancingMinTriangles = std::size_t(1) << 16;
 
+// Motion blur (`--shutter OPEN,CLOSE`, seconds on the first animation's timeline): what
+// moves while the shutter is open is sampled at kShutterSteps evenly spaced times.
+struct Shutter {
+  double open = 0.0, close = 0.0;
+};
+inline constexpr int kShutterSteps = 17;
+
 struct Scene {
   std::string source;  // file it came from, or the procedural scene's name
   // What the reader warned about while loading (load_scene), one line each, without the
@@ -222,11 +232,14 @@ struct Scene {
   // World-space bounds of everything drawn.
   Bounds3 bounds() const;
   // The instance `instance` of a hit draws through, or null when the triangle is stored in
-  // world space (kNoHit, or an instance whose transforms are the identity).
+  // world space (kNoHit, or a still instance whose transforms are the identity). A moving
+  // one is as at the shutter's opening: drawn_instance (render/drawn_triangle.h) moves it.
   const Instance* instance_transform(std::uint32_t instance) const {
     if (instance == kNoHit) return nullptr;
     const Instance& inst = instancing.instances[instance];
-    return inst.to_world.linear == glm::mat3(1.0f) && inst.to_world.offset == glm::vec3(0.0f) ? nullptr : &inst;
+    const bool identity = inst.motion == kNoHit && inst.to_world.linear == glm::mat3(1.0f) &&
+                          inst.to_world.offset == glm::vec3(0.0f);
+    return identity ? nullptr : &inst;
   }
   // The triangle's id among the file's triangles, as a flattened copy would number it
   // (kNoHit past 2^32 drawn triangles).

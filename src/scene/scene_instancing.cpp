@@ -1,9 +1,12 @@
 #include "scene/scene_instancing.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <vector>
 
+#include <glm/geometric.hpp>
+#include <glm/gtc/quaternion.hpp>
 #include <glm/matrix.hpp>
 
 namespace lancer {
@@ -53,6 +56,30 @@ std::optional<Instance> make_instance(std::uint32_t mesh, const glm::dmat4& worl
   inst.to_object = Affine{glm::mat3(inverse), glm::vec3(-(inverse * offset))};
   if (!finite(inst.to_world) || !finite(inst.to_object)) return std::nullopt;
   return inst;
+}
+
+std::optional<MotionKey> motion_key(const glm::dmat4& world) {
+  if (!make_instance(0, world)) return std::nullopt;
+  const glm::dmat3 linear(world);
+  // Higham's iteration converges quadratically from any invertible start; the condition
+  // number make_instance allows (1e6) needs about 25 steps.
+  glm::dmat3 q = linear;
+  for (int step = 0; step < 100; ++step) {
+    const glm::dmat3 next = 0.5 * (q + glm::transpose(glm::inverse(q)));
+    double change = 0.0;
+    for (int c = 0; c < 3; ++c) change = std::max(change, glm::length(next[c] - q[c]));
+    q = next;
+    if (change < 1e-15) break;
+  }
+  // A mirror: the proper rotation -q, and the reflection kept in the stretch.
+  if (glm::determinant(q) < 0.0) q = -q;
+  glm::dmat3 stretch = glm::transpose(q) * linear;
+  stretch = 0.5 * (stretch + glm::transpose(stretch));  // symmetric up to rounding: exactly
+  MotionKey key;
+  key.translation = glm::vec3(glm::dvec3(world[3]));
+  key.rotation = glm::quat(glm::normalize(glm::quat_cast(q)));
+  key.stretch = glm::mat3(stretch);
+  return key;
 }
 
 void reorder_triangles(Scene& scene, std::span<const std::uint32_t> order) {

@@ -21,6 +21,11 @@ inline constexpr double kMaxInstanceCondition = 1e6;
 // conditioned than kMaxInstanceCondition, or scales by 2^38 or more either way.
 std::optional<Instance> make_instance(std::uint32_t mesh, const glm::dmat4& world);
 
+// The affine `world` (its last row ignored) as a motion key: its translation and the polar
+// decomposition of its linear part (instances.h, MotionKey), found by Higham's iteration
+// Q <- (Q + Q^-T) / 2. Nothing where make_instance refuses the matrix.
+std::optional<MotionKey> motion_key(const glm::dmat4& world);
+
 // Puts the scene's triangles in the order `order`, a permutation of 0..triangle_count()-1:
 // triangle k becomes old triangle order[k], with its material, source id, flags and
 // per-corner attributes. Throws std::invalid_argument when `order` is not a permutation.

@@ -145,7 +145,7 @@ TEST_F(Resume, EveryOptionThatChangesTheImageIsChecked) {
       {"--aperture", "0.03", "--focus-distance", "0.6"}, {"--fov", "30"},
       {"--eye", "0.3,0.3,-0.7", "--look-at", "0.278,0.273,0.28"}, {"--env-color", "1,1,1"},
       {"--env-color", "1,1,1", "--env-scale", "3"}, {"--width", "25"}, {"--height", "23"},
-      {"--integrator", "ao"}, {"--camera", "0"}};
+      {"--integrator", "ao"}, {"--camera", "0"}, {"--shutter", "0,1"}};
   for (const auto& change : changes) {
     std::vector<std::string> args = {"--seed", "7"};
     args.insert(args.end(), change.begin(), change.end());

@@ -232,7 +232,7 @@ TEST(InstancedOffsets, RaysLeavingAnInstancedSurfaceNeverHitItAgain) {
         glm::vec3 dir(u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f);
         if (sample % 4 == 0) dir = glm::normalize(glm::cross(sp.ng, dir)) + sp.ng * (u(rng) - 0.5f) * 1e-3f;
         Ray r;
-        r.org = leaving_offset(scene, sp.p, sp.ng, prim, k).origin(dir);
+        r.org = leaving_offset(scene, sp.p, sp.ng, prim, k, 0.0f).origin(dir);
         r.dir = dir;
         const Hit again = accel->intersect(r);
         ++rays;

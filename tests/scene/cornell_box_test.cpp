@@ -243,3 +243,34 @@ TEST(CornellBoxSpheres, MirrorAndGlassSpheresOnTheFloor) {
 
 }  // namespace
 }  // namespace lancer
+
+namespace lancer {
+namespace {
+
+// The motion scene: with the shutter open over its second, the ball and the short block
+// move (one motion each) and nothing else does; the ball flies from left to right in the
+// camera's view, and the block has turned 60 degrees by the close.
+TEST(CornellBoxMotion, TheBallFliesAndTheShortBlockTurnsWhileTheShutterIsOpen) {
+  const std::filesystem::path file = test::scenes_dir() / "cornell-box-motion.gltf";
+  const Scene s = load_scene(file, std::nullopt, std::nullopt, InstancingMode::Auto, Shutter{0.0, 1.0});
+  ASSERT_EQ(s.instancing.motions.size(), 2u);
+  ASSERT_EQ(s.instancing.instances.size(), 3u);  // the still box, then the moving block and ball
+  EXPECT_EQ(s.drawn_triangle_count(), 6u * 2u + 2u * 10u + 960u);
+  const Instance& block = s.instancing.instances[1];
+  const Instance& ball = s.instancing.instances[2];
+  ASSERT_NE(block.motion, kNoHit);
+  ASSERT_NE(ball.motion, kNoHit);
+  const glm::vec3 start = instance_at(s.instancing, ball, 0.0f).to_world.offset;
+  const glm::vec3 top = instance_at(s.instancing, ball, 0.5f).to_world.offset;
+  const glm::vec3 end = instance_at(s.instancing, ball, 1.0f).to_world.offset;
+  EXPECT_NEAR(start.x, 0.42f, 1e-6f);
+  EXPECT_NEAR(top.y, 0.34f, 1e-6f);
+  EXPECT_NEAR(end.x, 0.19f, 1e-6f);
+  EXPECT_LT(to_camera(s.cameras[0], start).x, to_camera(s.cameras[0], end).x) << "left to right";
+  // 60 degrees about +y: cos 60 on the diagonal's x entry.
+  EXPECT_NEAR(instance_at(s.instancing, block, 1.0f).to_world.linear[0][0], 0.5f, 1e-6f);
+  EXPECT_NEAR(instance_at(s.instancing, block, 0.0f).to_world.linear[0][0], 1.0f, 1e-6f);
+}
+
+}  // namespace
+}  // namespace lancer

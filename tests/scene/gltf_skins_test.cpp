@@ -159,18 +159,7 @@ TEST_F(GltfSkins, MorphWeightsMoveTheVerticesNodeWeightsFirst) {
   expect_error(b, "has 1 morph targets but 2 weights are given");
 }
 
-// Animation 0 at its first keyframe poses the nodes (scene/gltf_animation.h). `values`
-// are the sampler's output floats, `type` their accessor type.
-void animate(GltfBuilder& b, int node, const char* path, const std::vector<float>& times,
-             const std::vector<float>& values, const char* type, const char* interpolation) {
-  const int input = b.add_floats(std::vector<glm::vec<1, float>>(times.begin(), times.end()), "SCALAR");
-  const int width = std::string(type) == "VEC4" ? 4 : std::string(type) == "VEC3" ? 3 : 1;
-  const int output = b.add_accessor(b.add_view(values.data(), values.size() * sizeof(float)), GltfBuilder::kFloat,
-                                    values.size() / std::size_t(width), type);
-  b.doc["animations"] = json::array(
-      {{{"samplers", {{{"input", input}, {"output", output}, {"interpolation", interpolation}}}},
-        {"channels", {{{"sampler", 0}, {"target", {{"node", node}, {"path", path}}}}}}}});
-}
+using gltf_test::animate;
 
 float highest_y(const Scene& s) {
   float hi = -1e30f;

@@ -250,6 +250,20 @@ class GltfTempDir : public ::testing::Test {
   std::filesystem::path dir_;
 };
 
+// Makes animation 0 a single channel moving `path` ("translation", "rotation", "scale",
+// "weights") of node `node`; `values` are the sampler's output floats, `type` their
+// accessor type. Replaces any animation the file had.
+inline void animate(GltfBuilder& b, int node, const char* path, const std::vector<float>& times,
+                    const std::vector<float>& values, const char* type, const char* interpolation) {
+  const int input = b.add_floats(std::vector<glm::vec<1, float>>(times.begin(), times.end()), "SCALAR");
+  const int width = std::string(type) == "VEC4" ? 4 : std::string(type) == "VEC3" ? 3 : 1;
+  const int output = b.add_accessor(b.add_view(values.data(), values.size() * sizeof(float)), GltfBuilder::kFloat,
+                                    values.size() / std::size_t(width), type);
+  b.doc["animations"] = json::array(
+      {{{"samplers", {{{"input", input}, {"output", output}, {"interpolation", interpolation}}}},
+        {"channels", {{{"sampler", 0}, {"target", {{"node", node}, {"path", path}}}}}}}});
+}
+
 // One CCW triangle in the z = 0 plane facing +z.
 inline std::vector<glm::vec3> unit_triangle() { return {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}; }
 

@@ -1,0 +1,33 @@
+// Moving instances in the two-level accelerator (issue 19, motion blur): the checks their
+// motions must pass, and their world boxes over the whole shutter. A moving instance is
+// entered with ray_to_object(instance_at(geometry, inst, ray.time), ray); these boxes make
+// the top level's error argument (two_level_ray.h) hold for every time at once.
+#pragma once
+
+#include "accel/instances.h"
+#include "accel/triangle_soa.h"
+
+namespace lancer::two_level {
+
+// Throws std::invalid_argument unless every instance's motion is kNoHit or indexes
+// geometry.motions, and every motion has at least two keys, all finite, with unit
+// quaternions (within 2^-16 in squared length), stretches whose symmetric parts are all
+// positive definite or all negative definite (proper or mirroring all the shutter long),
+// each with eigenvalues within 2^44 of one another, and transforms within the static
+// instances' limits (2^40 either way) at every key.
+void validate_motions(const InstancedGeometry& geometry);
+
+// What the top level needs of a moving instance: its box over the shutter, widened as
+// two_level.cpp widens a static one, its beta, and a bound on the infinity norm of
+// to_world.linear at any time (for the bottom trees' slack).
+struct ShutterBounds {
+  Bounds3 box;
+  double beta = 0.0;
+  double linear_norm = 0.0;
+};
+
+// `inst` moves (inst.motion indexes geometry.motions, validated); `object` is its mesh's
+// box. Throws std::invalid_argument when the box overflows float.
+ShutterBounds shutter_bounds(const InstancedGeometry& geometry, const Instance& inst, const Bounds3& object);
+
+}  // namespace lancer::two_level

@@ -9,47 +9,11 @@
 #include <mutex>
 #include <stdexcept>
 
+#include "embree_rays.h"
+
 namespace lancer::bench {
 
 namespace {
-
-// Every lane on, or off from `count` on; rtcIntersect16 wants the mask aligned like the packet.
-struct alignas(64) ValidMask16 {
-  std::array<int, 16> lanes{};
-  explicit ValidMask16(std::size_t count) {
-    for (std::size_t i = 0; i < lanes.size(); ++i) lanes[i] = i < count ? -1 : 0;
-  }
-};
-
-void set_ray(RTCRay& out, const Ray& r) {
-  out.org_x = r.org.x;
-  out.org_y = r.org.y;
-  out.org_z = r.org.z;
-  out.tnear = r.tnear;
-  out.dir_x = r.dir.x;
-  out.dir_y = r.dir.y;
-  out.dir_z = r.dir.z;
-  out.time = 0.0f;
-  out.tfar = r.tfar;
-  out.mask = 0xFFFFFFFFu;
-  out.id = 0;
-  out.flags = 0;
-}
-
-void set_ray16(RTCRay16& out, int i, const Ray& r) {
-  out.org_x[i] = r.org.x;
-  out.org_y[i] = r.org.y;
-  out.org_z[i] = r.org.z;
-  out.tnear[i] = r.tnear;
-  out.dir_x[i] = r.dir.x;
-  out.dir_y[i] = r.dir.y;
-  out.dir_z[i] = r.dir.z;
-  out.time[i] = 0.0f;
-  out.tfar[i] = r.tfar;
-  out.mask[i] = 0xFFFFFFFFu;
-  out.id[i] = static_cast<unsigned>(i);
-  out.flags[i] = 0;
-}
 
 RTCIntersectContext make_context(EmbreeCall call) {
   RTCIntersectContext context;
@@ -79,15 +43,7 @@ bool embree_call_is_occlusion(EmbreeCall call) {
 
 bool embree_available() { return true; }
 
-std::string_view embree_isa_cap(Isa isa) {
-  switch (isa) {
-    case Isa::Scalar: return "sse2";
-    case Isa::Sse4: return "sse4.2";
-    case Isa::Avx2: return "avx2";
-    case Isa::Avx512: return "avx512";
-  }
-  return "sse2";
-}
+std::string_view embree_isa_cap(Isa isa) { return embree_config_isa(isa); }
 
 std::string embree_description() {
   RTCDevice d = rtcNewDevice(nullptr);
@@ -203,7 +159,7 @@ void EmbreeScene::intersect(EmbreeCall call, const Ray* rays, Hit* hits, std::si
     const ValidMask16 valid(k);
     RTCRayHit16 rh;
     for (std::size_t i = 0; i < k; ++i) {
-      set_ray16(rh.ray, static_cast<int>(i), rays[first + i]);
+      set_ray16(rh.ray, i, rays[first + i]);
       rh.hit.geomID[i] = RTC_INVALID_GEOMETRY_ID;
       rh.hit.primID[i] = RTC_INVALID_GEOMETRY_ID;
     }
@@ -234,7 +190,7 @@ void EmbreeScene::occluded(EmbreeCall call, const Ray* rays, std::uint8_t* occlu
     const std::size_t k = std::min<std::size_t>(16, count - first);
     const ValidMask16 valid(k);
     RTCRay16 r;
-    for (std::size_t i = 0; i < k; ++i) set_ray16(r, static_cast<int>(i), rays[first + i]);
+    for (std::size_t i = 0; i < k; ++i) set_ray16(r, i, rays[first + i]);
     rtcOccluded16(valid.lanes.data(), impl_->scene, &context, &r);
     for (std::size_t i = 0; i < k; ++i) occluded[first + i] = r.tfar[i] < 0.0f ? 1 : 0;
   }

@@ -13,60 +13,12 @@
 
 #include <glm/gtc/quaternion.hpp>
 
+#include "embree_rays.h"
 #include "simd/isa.h"
 
 namespace lancer::bench {
 
 namespace {
-
-// Embree's config name for the best ISA Lancer runs here (scalar has no Embree counterpart).
-const char* embree_isa_cap(Isa isa) {
-  switch (isa) {
-    case Isa::Scalar: return "sse2";
-    case Isa::Sse4: return "sse4.2";
-    case Isa::Avx2: return "avx2";
-    case Isa::Avx512: return "avx512";
-  }
-  return "sse2";
-}
-
-// Every lane on, or off from `count` on; rtcIntersect16 wants the mask aligned like the packet.
-struct alignas(64) ValidMask16 {
-  std::array<int, 16> lanes{};
-  explicit ValidMask16(std::size_t count) {
-    for (std::size_t i = 0; i < lanes.size(); ++i) lanes[i] = i < count ? -1 : 0;
-  }
-};
-
-void set_ray(RTCRay& out, const Ray& r) {
-  out.org_x = r.org.x;
-  out.org_y = r.org.y;
-  out.org_z = r.org.z;
-  out.tnear = r.tnear;
-  out.dir_x = r.dir.x;
-  out.dir_y = r.dir.y;
-  out.dir_z = r.dir.z;
-  out.time = r.time;
-  out.tfar = r.tfar;
-  out.mask = 0xFFFFFFFFu;
-  out.id = 0;
-  out.flags = 0;
-}
-
-void set_ray16(RTCRay16& out, std::size_t i, const Ray& r) {
-  out.org_x[i] = r.org.x;
-  out.org_y[i] = r.org.y;
-  out.org_z[i] = r.org.z;
-  out.tnear[i] = r.tnear;
-  out.dir_x[i] = r.dir.x;
-  out.dir_y[i] = r.dir.y;
-  out.dir_z[i] = r.dir.z;
-  out.time[i] = r.time;
-  out.tfar[i] = r.tfar;
-  out.mask[i] = 0xFFFFFFFFu;
-  out.id[i] = static_cast<unsigned>(i);
-  out.flags[i] = 0;
-}
 
 // The affine x -> linear x + offset as Embree's column-major 3x4 matrix.
 std::array<float, 12> column_major(const glm::mat3& linear, const glm::vec3& offset) {
@@ -97,7 +49,7 @@ std::string motion_embree_description() {
   const std::string line = "Embree " + std::to_string(rtcGetDeviceProperty(d, RTC_DEVICE_PROPERTY_VERSION_MAJOR)) +
                            "." + std::to_string(rtcGetDeviceProperty(d, RTC_DEVICE_PROPERTY_VERSION_MINOR)) + "." +
                            std::to_string(rtcGetDeviceProperty(d, RTC_DEVICE_PROPERTY_VERSION_PATCH)) +
-                           ", ISA capped at " + embree_isa_cap(best_supported_isa());
+                           ", ISA capped at " + embree_config_isa(best_supported_isa());
   rtcReleaseDevice(d);
   return line;
 }
@@ -188,7 +140,7 @@ struct EmbreeMotionScene::Impl {
 };
 
 EmbreeMotionScene::EmbreeMotionScene(const Scene& scene, int threads) : impl_(std::make_unique<Impl>()) {
-  const std::string config = std::string("max_isa=") + embree_isa_cap(best_supported_isa()) +
+  const std::string config = std::string("max_isa=") + embree_config_isa(best_supported_isa()) +
                              ",threads=" + std::to_string(std::max(threads, 0));
   impl_->device = rtcNewDevice(config.c_str());
   if (!impl_->device)

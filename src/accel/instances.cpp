@@ -11,29 +11,48 @@ namespace lancer {
 
 namespace {
 
-// Slerp from unit a to unit b on the shorter arc, in double (Shoemake 1985); nearly equal
-// rotations blend linearly, where sin(theta) would lose the result's precision.
-glm::dquat slerp_shorter(glm::dquat a, glm::dquat b, double f) {
-  double c = glm::dot(a, b);
+// The span from key a to key b: the slerp on the shorter arc (Shoemake 1985, in double)
+// written as q(f) = cos(f theta) from + sin(f theta) across, `across` the unit quaternion
+// orthogonal to `from` towards `to`: one sincos per time. Nearly equal rotations blend
+// linearly, where dividing by sin(theta) would lose the result's precision.
+MotionSpan make_span(const MotionKey& a, const MotionKey& b) {
+  MotionSpan s;
+  s.from = glm::normalize(glm::dquat(a.rotation));
+  s.to = glm::normalize(glm::dquat(b.rotation));
+  double c = glm::dot(s.from, s.to);
   if (c < 0.0) {
-    b = -b;
+    s.to = -s.to;
     c = -c;
   }
-  double wa = 1.0 - f, wb = f;
   if (c < 0.9999) {
-    const double theta = std::acos(c), s = std::sin(theta);
-    wa = std::sin((1.0 - f) * theta) / s;
-    wb = std::sin(f * theta) / s;
+    s.theta = std::acos(c);
+    s.across = (s.to - c * s.from) / std::sin(s.theta);
   }
-  return glm::normalize(wa * a + wb * b);
+  s.stretch_from = glm::dmat3(a.stretch);
+  s.stretch_to = glm::dmat3(b.stretch);
+  s.constant_stretch = s.stretch_from == s.stretch_to;
+  if (s.constant_stretch) s.stretch_inverse = glm::inverse(s.stretch_from);  // only read then
+  s.translation_from = glm::dvec3(a.translation);
+  s.translation_to = glm::dvec3(b.translation);
+  return s;
 }
 
-// `rotation` must be unit: mat3_cast of a quaternion a few ulps off unit length is off a
-// rotation by as much.
+glm::dquat slerp(const MotionSpan& s, double f) {
+  if (s.theta == 0.0) return glm::normalize((1.0 - f) * s.from + f * s.to);
+  const double angle = f * s.theta;
+  return glm::normalize(std::cos(angle) * s.from + std::sin(angle) * s.across);
+}
+
+// linear = rotation * stretch; its inverse is stretch^-1 * rotation^T (exact for the double
+// values up to rounding: `rotation` must be unit, as mat3_cast of a quaternion a few ulps off
+// unit length is off a rotation by as much).
+// A stretch that is exactly the identity (a rigid motion's) multiplies nothing.
 Instance from_parts(std::uint32_t mesh, const glm::dquat& rotation, const glm::dmat3& stretch,
-                    const glm::dvec3& translation) {
-  const glm::dmat3 linear = glm::mat3_cast(rotation) * stretch;
-  const glm::dmat3 inverse = glm::inverse(linear);
+                    const glm::dmat3& stretch_inverse, const glm::dvec3& translation) {
+  const glm::dmat3 r = glm::mat3_cast(rotation);
+  const bool rigid = stretch == glm::dmat3(1.0);
+  const glm::dmat3 linear = rigid ? r : r * stretch;
+  const glm::dmat3 inverse = rigid ? glm::transpose(r) : stretch_inverse * glm::transpose(r);
   Instance inst;
   inst.mesh = mesh;
   inst.to_world = Affine{glm::mat3(linear), glm::vec3(translation)};
@@ -46,31 +65,64 @@ Instance from_parts(std::uint32_t mesh, const glm::dquat& rotation, const glm::d
 // Normalised as the slerp normalises, so a key's transforms are the limit of its
 // neighbours' (a continuous path, which the accelerator's shutter boxes rely on).
 Instance instance_from_key(std::uint32_t mesh, const MotionKey& key) {
-  return from_parts(mesh, glm::normalize(glm::dquat(key.rotation)), glm::dmat3(key.stretch),
+  const glm::dmat3 stretch(key.stretch);
+  return from_parts(mesh, glm::normalize(glm::dquat(key.rotation)), stretch, glm::inverse(stretch),
                     glm::dvec3(key.translation));
 }
+
+namespace {
+
+// The transform at fraction f of span s (keys a to b), f from key_time. On a key, exactly
+// its transforms: the blend would round them differently (and may flip the sign of a zero).
+Instance blend(const Instance& inst, const MotionKey& a, const MotionKey& b, const MotionSpan& s, double f) {
+  Instance out;
+  if (f == 0.0 || f == 1.0) {
+    out = instance_from_key(inst.mesh, f == 0.0 ? a : b);
+  } else {
+    const glm::dvec3 translation = glm::mix(s.translation_from, s.translation_to, f);
+    if (s.constant_stretch) {
+      out = from_parts(inst.mesh, slerp(s, f), s.stretch_from, s.stretch_inverse, translation);
+    } else {
+      const glm::dmat3 stretch = (1.0 - f) * s.stretch_from + f * s.stretch_to;
+      out = from_parts(inst.mesh, slerp(s, f), stretch, glm::inverse(stretch), translation);
+    }
+  }
+  out.motion = inst.motion;
+  return out;
+}
+
+}  // namespace
 
 Instance instance_at(const InstancedGeometry& geometry, const Instance& inst, float time) {
   if (inst.motion == kNoHit) return inst;
   const std::vector<MotionKey>& keys = geometry.motions[inst.motion].keys;
-  const double t = std::clamp(std::isnan(time) ? 0.0 : double(time), 0.0, 1.0);
-  const double x = t * double(keys.size() - 1);
-  const std::size_t i = std::min(std::size_t(x), keys.size() - 2);
-  const double f = x - double(i);
-  const MotionKey &a = keys[i], &b = keys[i + 1];
-  // On a key, exactly its transforms: the blend would round them differently (and may flip
-  // the sign of a zero).
-  if (f == 0.0 || f == 1.0) {
-    Instance out = instance_from_key(inst.mesh, f == 0.0 ? a : b);
-    out.motion = inst.motion;
-    return out;
+  const KeyTime k = key_time(keys.size(), time);
+  const MotionKey &a = keys[k.interval], &b = keys[k.interval + 1];
+  return blend(inst, a, b, make_span(a, b), k.f);
+}
+
+PreparedMotions::PreparedMotions(const InstancedGeometry& geometry) {
+  keys_.reserve(geometry.motions.size());
+  spans_.reserve(geometry.motions.size());
+  for (const InstanceMotion& m : geometry.motions) {
+    keys_.push_back(m.keys);
+    std::vector<MotionSpan>& spans = spans_.emplace_back();
+    for (std::size_t i = 0; i + 1 < m.keys.size(); ++i) spans.push_back(make_span(m.keys[i], m.keys[i + 1]));
   }
-  const glm::dvec3 translation = glm::mix(glm::dvec3(a.translation), glm::dvec3(b.translation), f);
-  const glm::dmat3 stretch = (1.0 - f) * glm::dmat3(a.stretch) + f * glm::dmat3(b.stretch);
-  Instance out = from_parts(inst.mesh, slerp_shorter(glm::dquat(a.rotation), glm::dquat(b.rotation), f), stretch,
-                            translation);
-  out.motion = inst.motion;
-  return out;
+}
+
+Instance PreparedMotions::at(const Instance& inst, float time) const {
+  if (inst.motion == kNoHit) return inst;
+  const std::vector<MotionKey>& keys = keys_[inst.motion];
+  const KeyTime k = key_time(keys.size(), time);
+  return blend(inst, keys[k.interval], keys[k.interval + 1], spans_[inst.motion][k.interval], k.f);
+}
+
+std::size_t PreparedMotions::memory_bytes() const {
+  std::size_t bytes = keys_.capacity() * sizeof(keys_[0]) + spans_.capacity() * sizeof(spans_[0]);
+  for (const auto& k : keys_) bytes += k.capacity() * sizeof(MotionKey);
+  for (const auto& s : spans_) bytes += s.capacity() * sizeof(MotionSpan);
+  return bytes;
 }
 
 }  // namespace lancer

@@ -5,6 +5,9 @@
 // attributes exactly as for a one-level scene.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -88,9 +91,51 @@ struct InstancedGeometry {
 // and rounded once): the one routine the accelerator and the renderer's ray offsets use.
 Instance instance_from_key(std::uint32_t mesh, const MotionKey& key);
 
+// Where `time` falls among key_count >= 2 evenly spaced keys (clamped to [0, 1], NaN as 0):
+// the key interval instance_at interpolates in, and the fraction f in [0, 1] within it.
+struct KeyTime {
+  std::size_t interval;
+  double f;
+};
+inline KeyTime key_time(std::size_t key_count, float time) {
+  const double t = std::clamp(std::isnan(time) ? 0.0 : double(time), 0.0, 1.0);
+  const double x = t * double(key_count - 1);
+  // Through int: x is below 2^31 (key counts are small), and the conversion to int is one
+  // instruction where the one to size_t is not.
+  const std::size_t i = std::min(std::size_t(int(x)), key_count - 2);
+  return {i, x - double(i)};
+}
+
 // `inst` at `time` in [0, 1] (clamped; NaN counts as 0): itself when it does not move, else
 // its motion's keys interpolated and made an Instance by instance_from_key. Deterministic:
 // the same time gives the same bits wherever it is called.
 Instance instance_at(const InstancedGeometry& geometry, const Instance& inst, float time);
+
+// One key interval of a motion, with what every time inside it needs computed once: the
+// slerp's angle and direction (an acos per call otherwise), and the stretch's inverse when
+// the stretch does not change (a rigid motion: the stretch blends to itself).
+struct MotionSpan {
+  glm::dquat from{1.0, 0.0, 0.0, 0.0}, to{1.0, 0.0, 0.0, 0.0};  // unit; `to` on from's side
+  glm::dquat across{0.0, 0.0, 0.0, 0.0};  // unit, orthogonal to `from`, in the plane of `to`
+  double theta = 0.0;                     // 0: the rotations blend linearly (nearly equal)
+  glm::dmat3 stretch_from{1.0}, stretch_to{1.0}, stretch_inverse{1.0};
+  bool constant_stretch = true;
+  glm::dvec3 translation_from{0.0}, translation_to{0.0};
+};
+
+// The motions of an InstancedGeometry as spans, for callers that interpolate often (the
+// accelerator enters a moving instance once per ray). at() gives instance_at's bits.
+class PreparedMotions {
+ public:
+  PreparedMotions() = default;
+  explicit PreparedMotions(const InstancedGeometry& geometry);
+  Instance at(const Instance& inst, float time) const;
+  std::size_t key_count(std::uint32_t motion) const { return keys_[motion].size(); }
+  std::size_t memory_bytes() const;
+
+ private:
+  std::vector<std::vector<MotionKey>> keys_;    // per motion
+  std::vector<std::vector<MotionSpan>> spans_;  // per motion, per key interval
+};
 
 }  // namespace lancer

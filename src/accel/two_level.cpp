@@ -1,5 +1,7 @@
 #include "accel/two_level.h"
 
+#include <atomic>
+#include <bit>
 #include <chrono>
 #include <cmath>
 #include <stdexcept>
@@ -53,6 +55,14 @@ void validate(const TriangleSoA& tris, const InstancedGeometry& geometry) {
     if (!(l > 0.0) || !(r > 0.0) || l > kMaxNorm || r > kMaxNorm || det == 0.0)
       throw std::invalid_argument(which + " has a singular transform or one scaling by more than 2^40");
   }
+}
+
+// A static instance whose transforms are exactly the identity (the world geometry beside
+// instanced or moving meshes).
+bool is_identity(const Instance& inst) {
+  const Affine identity;
+  return inst.motion == kNoHit && inst.to_world.linear == identity.linear && inst.to_world.offset == identity.offset &&
+         inst.to_object.linear == identity.linear && inst.to_object.offset == identity.offset;
 }
 
 // The mesh's triangles, as their own TriangleSoA (local index = index - first).
@@ -136,7 +146,60 @@ KdNode descend(const TopRay& tr, const KdNode* nodes, Entry e, Entry* stack, int
   return nodes[e.node];
 }
 
+// at_time's memo. A path's rays all carry the path's time, so its camera ray, bounce rays
+// and shadow rays enter a moving instance at the same time, and a thread advances the 64
+// paths of a block together (one time each); an interpolation (two sines, a 3x3 inverse)
+// costs about as much as a bottom-level traversal. Keyed by accelerator, instance and the
+// time's bits; PreparedMotions::at is a pure function, so a hit changes no bit.
+struct MovedInstances {
+  static constexpr int kBits = 7;
+  static constexpr int kSize = 1 << kBits;
+  struct Entry {
+    std::uint64_t owner = 0;  // 0: empty (accelerator ids start at 1)
+    std::uint32_t instance = 0, time_bits = 0;
+    Instance value;
+  };
+  Entry entries[kSize];
+};
+thread_local MovedInstances moved_instances;
+std::atomic<std::uint64_t> next_accelerator_id{1};
+
 }  // namespace
+
+const Instance& TwoLevelAccelerator::at_time(std::uint32_t i, float time) const {
+  const std::uint32_t bits = std::bit_cast<std::uint32_t>(time);
+  const std::uint32_t hash = (bits ^ (i * 0x9E3779B1u)) * 0x85EBCA6Bu;
+  MovedInstances::Entry& e = moved_instances.entries[hash >> (32 - MovedInstances::kBits)];
+  if (e.owner != id_ || e.instance != i || e.time_bits != bits) {
+    e.value = motions_.at(instances_[i], time);
+    e.owner = id_;
+    e.instance = i;
+    e.time_bits = bits;
+  }
+  return e.value;
+}
+
+bool TwoLevelAccelerator::surely_misses_top(const Ray& clipped) const {
+  if (few_top_.empty()) return two_level::segment_misses(clipped, top_.bounds(), beta_, extent_);
+  // Every box lies inside the top level's, so its norm serves them all.
+  const two_level::SegmentBox sb = two_level::segment_box(clipped, beta_, extent_, top_norm_);
+  if (!sb.usable) return false;
+  for (std::size_t j = 0; j < few_top_.size(); ++j) {
+    const std::uint32_t i = few_top_[j];
+    const Bounds3& box = instances_[i].motion == kNoHit ? few_top_boxes_[j] : interval_box(i, clipped.time);
+    if (!sb.misses(box)) return false;
+  }
+  return true;
+}
+
+bool TwoLevelAccelerator::meets_few(std::size_t j, const two_level::TopRay& tr, float time) const {
+  const std::uint32_t i = few_top_[j];
+  return instances_[i].motion == kNoHit ? fat_ray_meets_box(tr, few_top_boxes_[j]) : meets_moving(i, tr, time);
+}
+
+bool TwoLevelAccelerator::meets_moving(std::uint32_t i, const two_level::TopRay& tr, float time) const {
+  return fat_ray_meets_box(tr, interval_box(i, time));
+}
 
 TwoLevelAccelerator::TwoLevelAccelerator(const TriangleSoA& tris, const InstancedGeometry& geometry,
                                          std::string_view bottom, const KdBuildOptions& kd, Isa isa) {
@@ -153,6 +216,7 @@ TwoLevelAccelerator::TwoLevelAccelerator(const TriangleSoA& tris, const Instance
   }
   validate(tris, geometry);
   two_level::validate_motions(geometry);
+  id_ = next_accelerator_id.fetch_add(1, std::memory_order_relaxed);
 
   const std::size_t mesh_count = geometry.meshes.size();
   std::vector<bool> used(mesh_count, false);
@@ -177,17 +241,30 @@ TwoLevelAccelerator::TwoLevelAccelerator(const TriangleSoA& tris, const Instance
   });
 
   instances_ = geometry.instances;
-  motions_.motions = geometry.motions;
+  motions_ = PreparedMotions(geometry);
+  // Direct instances stay out of the top level (an empty box is left out of it).
+  direct_.assign(instances_.size(), 0);
+  for (std::uint32_t i = 0; i < instances_.size(); ++i)
+    if (is_identity(instances_[i])) {
+      direct_[i] = 1;
+      direct_list_.push_back(i);
+    }
   std::vector<Bounds3> boxes(instances_.size());
+  interval_first_.assign(instances_.size(), 0);
+  interval_keys_.assign(instances_.size(), 0);
   for (std::size_t i = 0; i < instances_.size(); ++i) {
+    if (direct_[i]) continue;
     const Bounds3& object = object_boxes[instances_[i].mesh];
     double beta = 0.0, linear_norm = 0.0;
     if (instances_[i].motion == kNoHit) {
       boxes[i] = world_box(instances_[i], object, beta);
       linear_norm = norm_inf(instances_[i].to_world.linear);
     } else {
-      const two_level::ShutterBounds b = two_level::shutter_bounds(geometry, instances_[i], object);
+      two_level::ShutterBounds b = two_level::shutter_bounds(geometry, instances_[i], object);
       boxes[i] = b.box;
+      interval_first_[i] = std::uint32_t(interval_boxes_.size());
+      interval_keys_[i] = std::uint32_t(b.intervals.size() + 1);
+      interval_boxes_.insert(interval_boxes_.end(), b.intervals.begin(), b.intervals.end());
       beta = b.beta;
       linear_norm = b.linear_norm;
     }
@@ -196,11 +273,15 @@ TwoLevelAccelerator::TwoLevelAccelerator(const TriangleSoA& tris, const Instance
     const double largest = std::fmax(e.x, std::fmax(e.y, e.z));
     extent_ = std::fmax(extent_, largest * linear_norm);
   }
-  // Kept for the moving instances' per-ray box test (fat_ray_meets_box).
-  moving_boxes_.assign(instances_.size(), Bounds3{});
-  for (std::size_t i = 0; i < instances_.size(); ++i)
-    if (instances_[i].motion != kNoHit) moving_boxes_[i] = boxes[i];
   top_ = TopLevelTree(boxes);
+  top_norm_ = two_level::box_norm(top_.bounds());
+  std::vector<std::uint32_t> in_top;
+  for (std::uint32_t i = 0; i < instances_.size(); ++i)
+    if (!boxes[i].empty()) in_top.push_back(i);
+  if (in_top.size() <= kFewTopInstances) {
+    few_top_ = in_top;
+    for (std::uint32_t i : few_top_) few_top_boxes_.push_back(boxes[i]);
+  }
   build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
 
@@ -213,24 +294,44 @@ std::size_t TwoLevelAccelerator::bottom_count() const {
 }
 
 void TwoLevelAccelerator::visit(std::uint32_t i, const Ray& ray, Hit& best) const {
-  const Instance& inst = instances_[i];
-  Ray r = inst.motion == kNoHit ? ray_to_object(inst, ray) : ray_to_object(at_time(inst, ray.time), ray);
-  if (best.valid()) r.tfar = i < best.instance ? std::nextafter(best.t, kInfinity) : best.t;
-  Hit h = bottoms_[inst.mesh]->intersect(r);
+  Hit h = bottoms_[instances_[i].mesh]->intersect(entered(i, ray, best));
   if (!h.valid()) return;
-  h.prim += mesh_first_[inst.mesh];
+  h.prim += mesh_first_[instances_[i].mesh];
   h.instance = i;
   best = h;
 }
 
+bool TwoLevelAccelerator::blocks(std::uint32_t i, const Ray& ray) const {
+  const Instance& inst = instances_[i];
+  return bottoms_[inst.mesh]->occluded(inst.motion == kNoHit ? ray_to_object(inst, ray)
+                                                              : ray_to_object(at_time(i, ray.time), ray));
+}
+
 Hit TwoLevelAccelerator::intersect(const Ray& ray) const {
-  const TopRay tr = setup_top_ray(ray, top_.bounds(), beta_, extent_);
   Hit best;
+  for (std::uint32_t i : direct_list_) visit(i, ray, best);
+  intersect_top(ray, best);
+  return best;
+}
+
+// A hit that beats `best` lies at or before best.t, so the top level clips the ray there.
+void TwoLevelAccelerator::intersect_top(const Ray& ray, Hit& best) const {
+  if (top_.bounds().empty()) return;
+  Ray clipped = ray;
+  if (best.valid()) clipped.tfar = two_level::smaller(best.t, clipped.tfar);  // keeps a NaN tfar (Scan)
+  if (surely_misses_top(clipped)) return;
+  const TopRay tr = setup_top_ray(clipped, top_.bounds(), beta_, extent_);
   if (tr.plan == TopPlan::Scan) {
-    for (std::uint32_t i = 0; i < instances_.size(); ++i) visit(i, ray, best);
-    return best;
+    for (std::uint32_t i = 0; i < instances_.size(); ++i)
+      if (!direct_[i]) visit(i, ray, best);
+    return;
   }
-  if (tr.plan == TopPlan::Miss) return best;
+  if (tr.plan == TopPlan::Miss) return;
+  if (!few_top_.empty()) {  // each instance in turn, against its own box
+    for (std::size_t j = 0; j < few_top_.size(); ++j)
+      if (meets_few(j, tr, ray.time)) visit(few_top_[j], ray, best);
+    return;
+  }
 
   Entry stack[kTopLevelStackSize];
   two_level::Mailbox mailbox;
@@ -245,26 +346,32 @@ Hit TwoLevelAccelerator::intersect(const Ray& ray) const {
     const KdNode leaf = descend(tr, nodes, e, stack, sp);
     for (std::uint32_t k = 0; k < leaf.count(); ++k) {
       const std::uint32_t i = items[leaf.first_slot() + k];
-      if (mailbox.enter(i, 1) != 0 && (instances_[i].motion == kNoHit || fat_ray_meets_box(tr, moving_boxes_[i])))
+      if (mailbox.enter(i, 1) != 0 && (instances_[i].motion == kNoHit || meets_moving(i, tr, ray.time)))
         visit(i, ray, best);
     }
   }
-  return best;
 }
 
 bool TwoLevelAccelerator::occluded(const Ray& ray) const {
+  for (std::uint32_t i : direct_list_)
+    if (blocks(i, ray)) return true;
+  return occluded_top(ray);
+}
+
+bool TwoLevelAccelerator::occluded_top(const Ray& ray) const {
+  if (top_.bounds().empty() || surely_misses_top(ray)) return false;
   const TopRay tr = setup_top_ray(ray, top_.bounds(), beta_, extent_);
-  auto blocked_by = [&](std::uint32_t i) {
-    const Instance& inst = instances_[i];
-    const Ray r = inst.motion == kNoHit ? ray_to_object(inst, ray) : ray_to_object(at_time(inst, ray.time), ray);
-    return bottoms_[inst.mesh]->occluded(r);
-  };
   if (tr.plan == TopPlan::Scan) {
     for (std::uint32_t i = 0; i < instances_.size(); ++i)
-      if (blocked_by(i)) return true;
+      if (!direct_[i] && blocks(i, ray)) return true;
     return false;
   }
   if (tr.plan == TopPlan::Miss) return false;
+  if (!few_top_.empty()) {
+    for (std::size_t j = 0; j < few_top_.size(); ++j)
+      if (meets_few(j, tr, ray.time) && blocks(few_top_[j], ray)) return true;
+    return false;
+  }
 
   Entry stack[kTopLevelStackSize];
   two_level::Mailbox mailbox;
@@ -278,7 +385,7 @@ bool TwoLevelAccelerator::occluded(const Ray& ray) const {
     for (std::uint32_t k = 0; k < leaf.count(); ++k) {
       const std::uint32_t i = items[leaf.first_slot() + k];
       if (mailbox.enter(i, 1) != 0 &&
-          (instances_[i].motion == kNoHit || fat_ray_meets_box(tr, moving_boxes_[i])) && blocked_by(i))
+          (instances_[i].motion == kNoHit || meets_moving(i, tr, ray.time)) && blocks(i, ray))
         return true;
     }
   }
@@ -287,13 +394,15 @@ bool TwoLevelAccelerator::occluded(const Ray& ray) const {
 
 std::size_t TwoLevelAccelerator::memory_bytes() const {
   std::size_t bytes = top_.memory_bytes() + instances_.capacity() * sizeof(Instance) +
-                      moving_boxes_.capacity() * sizeof(Bounds3) +
+                      (interval_first_.capacity() + interval_keys_.capacity()) * sizeof(std::uint32_t) +
+                      few_top_.capacity() * sizeof(std::uint32_t) + few_top_boxes_.capacity() * sizeof(Bounds3) +
+                      interval_boxes_.capacity() * sizeof(Bounds3) + direct_.capacity() +
+                      direct_list_.capacity() * sizeof(std::uint32_t) +
                       mesh_first_.capacity() * sizeof(std::uint32_t) +
                       bottoms_.capacity() * sizeof(std::unique_ptr<Accelerator>);
   for (const auto& b : bottoms_)
     if (b) bytes += b->memory_bytes();
-  bytes += motions_.motions.capacity() * sizeof(InstanceMotion);
-  for (const InstanceMotion& m : motions_.motions) bytes += m.keys.capacity() * sizeof(MotionKey);
+  bytes += motions_.memory_bytes();
   bytes += kept_.capacity() * sizeof(std::unique_ptr<TriangleSoA>);
   for (const auto& t : kept_)
     if (t) bytes += 9 * t->size() * sizeof(float);

@@ -16,10 +16,17 @@
 // own time, so the answers above hold at every time; its top-level box holds the mesh over
 // the whole shutter (two_level_motion.h). Static instances pay one branch for this.
 //
+// Direct instances: a static instance whose transforms are exactly the identity (the world
+// geometry of a scene where only some meshes are instanced or move) stays out of the top
+// level: every ray enters it first (still through ray_to_object, so the answers keep
+// their definition), and the top level then clips the ray to the best hit so far. Most
+// rays of such a scene then never pay for the top level's fat-ray setup.
+//
 // Traversal holds no lock and allocates nothing (fixed stacks, one entry per level); the
 // only virtual calls are one per bottom-level visit.
 #pragma once
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -33,6 +40,11 @@
 #include "simd/isa.h"
 
 namespace lancer {
+
+namespace two_level {
+struct TopRay;       // two_level_ray.h
+struct PacketSetup;  // two_level_packet.cpp
+}  // namespace two_level
 
 class TwoLevelAccelerator final : public Accelerator {
  public:
@@ -58,6 +70,11 @@ class TwoLevelAccelerator final : public Accelerator {
 
   std::size_t instance_count() const { return instances_.size(); }
   std::size_t mesh_count() const { return mesh_first_.size(); }
+  // Whether the top level's instances are few enough to be met one by one (see "Few
+  // instances" below) rather than through its tree.
+  bool meets_few_instances() const { return !few_top_.empty(); }
+  // Instances entered before the top level (see "Direct instances" above).
+  std::size_t direct_count() const { return direct_list_.size(); }
   // Meshes with a bottom-level tree (those some instance draws).
   std::size_t bottom_count() const;
   const TopLevelTree& top_level() const { return top_; }
@@ -65,23 +82,77 @@ class TwoLevelAccelerator final : public Accelerator {
   double build_ms() const { return build_ms_; }
 
  private:
+  // The packet's top-level rays (two_level_packet.cpp).
+  void setup_packet(const Ray* rays, const Hit* hits, std::uint64_t skip, int count, two_level::PacketSetup& p) const;
   void intersect_packet64(const Ray* rays, Hit* hits, int count) const;
+  void enter_packet(std::uint32_t i, std::uint64_t lanes, const Ray* rays, const two_level::PacketSetup& p,
+                    Hit* hits) const;
+  std::uint64_t block_packet(std::uint32_t i, std::uint64_t lanes, const Ray* rays,
+                             const two_level::PacketSetup& p) const;
+  std::uint64_t lanes_meeting_few(std::size_t j, std::uint64_t lanes, const two_level::PacketSetup& p) const;
   void occluded_packet64(const Ray* rays, bool* occluded, int count) const;
   // Enters instance i with the tie rule above, updating `best`.
   void visit(std::uint32_t i, const Ray& ray, Hit& best) const;
+  // The ray instance i's tree is given: moved into its space, tfar
+  // narrowed by the tie rule against `best`.
+  Ray entered(std::uint32_t i, const Ray& ray, const Hit& best) const {
+    const Instance& inst = instances_[i];
+    Ray r = inst.motion == kNoHit ? ray_to_object(inst, ray) : ray_to_object(at_time(i, ray.time), ray);
+    if (best.valid()) r.tfar = i < best.instance ? std::nextafter(best.t, kInfinity) : best.t;
+    return r;
+  }
+  // Whether instance i blocks the ray.
+  bool blocks(std::uint32_t i, const Ray& ray) const;
+  // The instances of the top level (all but the direct ones), after `best` from the others.
+  void intersect_top(const Ray& ray, Hit& best) const;
+  bool occluded_top(const Ray& ray) const;
+  // The direct instances for a packet: hits start empty.
+  void intersect_direct(const Ray* rays, Hit* hits, int count) const;
 
-  // The instance as ray `time` meets it: itself when it does not move.
-  Instance at_time(const Instance& inst, float time) const { return instance_at(motions_, inst, time); }
+  // Few instances (at most kFewTopInstances in the top level): a ray, or a packet's lanes
+  // whatever their directions, meets each in ascending order after a test against its
+  // box (fat_ray_meets_box) instead of walking the top level's tree; the same answers by
+  // the tie rule, and the same argument for skipping an instance whose box the fat ray
+  // misses.
+  //
+  // True only if no instance of the top level can hold a hit of the ray (segment_misses,
+  // two_level_ray.h): against the top level's box, or, when the top level has at most
+  // kFewTopInstances instances, against each one's box (a moving one's over the key
+  // interval of the ray's time), which rejects far more rays for about the same cost.
+  bool surely_misses_top(const Ray& clipped) const;
+  // Moving instance i's box over the key interval holding `time`.
+  const Bounds3& interval_box(std::uint32_t i, float time) const {
+    return interval_boxes_[interval_first_[i] + key_time(interval_keys_[i], time).interval];
+  }
+  // Whether the fat ray can meet moving instance i at `time`: the box of i over the key
+  // interval holding `time` (a small part of its box over the shutter), tested before the
+  // interpolation at_time costs.
+  bool meets_moving(std::uint32_t i, const two_level::TopRay& tr, float time) const;
+  // Whether the fat ray can meet few_top_[j] at `time` (its box, or meets_moving).
+  bool meets_few(std::size_t j, const two_level::TopRay& tr, float time) const;
+  // Moving instance i as a ray at `time` meets it (PreparedMotions::at, memoised per
+  // thread: see two_level.cpp). The reference is good until this thread's next call.
+  const Instance& at_time(std::uint32_t i, float time) const;
 
   std::vector<Instance> instances_;
-  InstancedGeometry motions_;  // only its motions: what instance_at reads
+  std::uint64_t id_ = 0;     // unique per accelerator: the key of its at_time memo entries
+  PreparedMotions motions_;  // instance_at's bits, with each span's slerp angle computed once
   std::vector<std::uint32_t> mesh_first_;             // per mesh, its first triangle
   std::vector<std::unique_ptr<Accelerator>> bottoms_;  // per mesh, null when no instance draws it
   std::vector<std::unique_ptr<TriangleSoA>> kept_;     // per mesh, the copy a BruteForce bottom refers to
-  std::vector<Bounds3> moving_boxes_;  // per instance: its world box over the shutter if it moves
+  std::vector<char> direct_;                // per instance: entered before the top level
+  std::vector<std::uint32_t> direct_list_;  // the direct instances, ascending
+  static constexpr std::size_t kFewTopInstances = 8;
+  std::vector<std::uint32_t> few_top_;  // the top level's instances when at most kFewTopInstances, else empty
+  std::vector<Bounds3> few_top_boxes_;  // their widened world boxes (used for those that do not move)
+  // Per moving instance, the index of its first key interval's box (ShutterBounds::intervals).
+  std::vector<std::uint32_t> interval_first_;
+  std::vector<std::uint32_t> interval_keys_;  // per moving instance, its key count
+  std::vector<Bounds3> interval_boxes_;
   TopLevelTree top_;
   double beta_ = 0.0;    // the fat ray's radius per unit of |org| (two_level_ray.h)
   double extent_ = 0.0;  // the largest mesh extent times its to_world norm (two_level_ray.h)
+  double top_norm_ = 0.0;  // two_level::box_norm of the top level's box
   std::string_view bottom_name_;
   double build_ms_ = 0.0;
 };

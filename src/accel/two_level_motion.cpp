@@ -190,19 +190,22 @@ ShutterBounds shutter_bounds(const InstancedGeometry& geometry, const Instance& 
   const double samples = double(kSamplesPerKey) * double(intervals);
   const double h = 1.0 / kSamplesPerKey + double(intervals) * 0x1p-22;  // float times are a little uneven
   glm::dvec3 lo(kInfinity), hi(-kInfinity);
+  std::vector<glm::dvec3> interval_lo(intervals, glm::dvec3(kInfinity)), interval_hi(intervals, glm::dvec3(-kInfinity));
   double stray = 0.0;
   for (std::size_t i = 0; i < intervals; ++i) {
-    for (int j = i == 0 ? 0 : 1; j <= kSamplesPerKey; ++j) {
+    for (int j = 0; j <= kSamplesPerKey; ++j) {
       const float time = float(double(i * kSamplesPerKey + j) / samples);
       const Instance at = instance_at(geometry, inst, time);
       const glm::dmat3 m(at.to_world.linear);
       const glm::dvec3 b(at.to_world.offset);
       for (const glm::dvec3& p : corners) {
         const glm::dvec3 w = m * p + b;
-        lo = glm::min(lo, w);
-        hi = glm::max(hi, w);
+        interval_lo[i] = glm::min(interval_lo[i], w);
+        interval_hi[i] = glm::max(interval_hi[i], w);
       }
     }
+    lo = glm::min(lo, interval_lo[i]);
+    hi = glm::max(hi, interval_hi[i]);
     const glm::dquat qa(keys[i].rotation), qb(keys[i + 1].rotation);
     const double cos_half = std::fabs(glm::dot(qa, qb)) / std::sqrt(glm::dot(qa, qa) * glm::dot(qb, qb));
     const double theta = 2.0 * std::acos(std::fmin(1.0, cos_half));
@@ -215,8 +218,9 @@ ShutterBounds shutter_bounds(const InstancedGeometry& geometry, const Instance& 
   // moves at most 6 sigma |p| + 4 |T| per unit of f.
   const double kink = intervals > 1 ? double(intervals) * 0x1p-24 * (6.0 * n.sigma * p2 + 4.0 * n.t) : 0.0;
   const double rounding = 0x1p-20 * (n.l * p_inf + n.t);
-  lo -= stray + kink + rounding;
-  hi += stray + kink + rounding;
+  const double path = stray + kink + rounding;
+  lo -= path;
+  hi += path;
   double s = 0.0;
   for (int a = 0; a < 3; ++a) s = std::fmax(s, std::fmax(std::fabs(lo[a]), std::fabs(hi[a])));
   // alpha (two_level_ray.h) with the worst norms over the shutter, then rounding to float.
@@ -227,6 +231,15 @@ ShutterBounds shutter_bounds(const InstancedGeometry& geometry, const Instance& 
   for (int a = 0; a < 3; ++a)
     if (!std::isfinite(out.box.lo[a]) || !std::isfinite(out.box.hi[a]))
       throw std::invalid_argument("two-level: a moving instance's world bounds overflow float");
+  // Each interval's box: its own 17 samples (the keys at both ends included), widened by
+  // the same margins, which are maxima over the intervals (the stray and kink of any
+  // interval, alpha of the whole box), so each holds its interval as the whole box holds
+  // the shutter; never beyond the whole box.
+  out.intervals.resize(intervals);
+  for (std::size_t i = 0; i < intervals; ++i) {
+    out.intervals[i].lo = glm::max(glm::vec3(interval_lo[i] - path - margin), out.box.lo);
+    out.intervals[i].hi = glm::min(glm::vec3(interval_hi[i] + path + margin), out.box.hi);
+  }
   return out;
 }
 

@@ -4,6 +4,8 @@
 // the top level's error argument (two_level_ray.h) hold for every time at once.
 #pragma once
 
+#include <vector>
+
 #include "accel/instances.h"
 #include "accel/triangle_soa.h"
 
@@ -22,6 +24,9 @@ void validate_motions(const InstancedGeometry& geometry);
 // to_world.linear at any time (for the bottom trees' slack).
 struct ShutterBounds {
   Bounds3 box;
+  // Per key interval (key_time's), the box over that interval alone, widened alike: a ray
+  // whose time falls in interval k can only hit the instance inside intervals[k].
+  std::vector<Bounds3> intervals;
   double beta = 0.0;
   double linear_norm = 0.0;
 };

@@ -6,8 +6,8 @@
 // ray, and the answer is the same lexicographic minimum whatever the visit order, so each
 // lane's result is intersect's bit for bit. Packets with mixed signs, and rays that the
 // single-ray path scans (two_level_ray.h), go one ray at a time. A moving instance is
-// entered by each lane at its own time (instance_at per lane, as a single ray would),
-// reusing the transform of the previous lane when the times are the same bits.
+// entered by each lane at its own time (at_time per lane, as a single ray would). Direct
+// instances (two_level.h) take the whole packet first.
 #include <bit>
 #include <cmath>
 #include <cstdint>
@@ -31,8 +31,11 @@ using two_level::TopStep;
 
 constexpr int kPacket = 64;
 
+}  // namespace
+
 // The packet's top-level rays. `active` holds the lanes that traverse; `coherent` is false
 // when two of them point opposite ways on some axis (rays parallel to it agree with both).
+namespace two_level {
 struct PacketSetup {
   TopRay rays[kPacket];
   std::uint64_t active = 0;
@@ -40,12 +43,27 @@ struct PacketSetup {
   bool negative[3] = {false, false, false};
   bool coherent = true;
 };
+}  // namespace two_level
 
-void setup_packet(const Ray* rays, int count, const Bounds3& root, double beta, double extent, PacketSetup& p) {
+// Lanes in `skip` stay out (Miss); a lane with a hit in `hits` (when given) is clipped to
+// it, as intersect_top clips a single ray; surely_misses_top answers for most lanes whose
+// range is finite.
+void TwoLevelAccelerator::setup_packet(const Ray* rays, const Hit* hits, std::uint64_t skip, int count,
+                                       two_level::PacketSetup& p) const {
   bool pos[3] = {false, false, false}, neg[3] = {false, false, false};
   for (int k = 0; k < count; ++k) {
-    p.rays[k] = setup_top_ray(rays[k], root, beta, extent);
     const std::uint64_t bit = std::uint64_t(1) << k;
+    if (skip & bit) {
+      p.rays[k].plan = TopPlan::Miss;
+      continue;
+    }
+    Ray clipped = rays[k];
+    if (hits && hits[k].valid()) clipped.tfar = two_level::smaller(hits[k].t, clipped.tfar);  // keeps a NaN (Scan)
+    if (surely_misses_top(clipped)) {
+      p.rays[k].plan = TopPlan::Miss;
+      continue;
+    }
+    setup_top_ray(clipped, top_.bounds(), beta_, extent_, p.rays[k]);
     if (p.rays[k].plan == TopPlan::Scan) p.scan |= bit;
     if (p.rays[k].plan != TopPlan::Traverse) continue;
     p.active |= bit;
@@ -60,30 +78,7 @@ void setup_packet(const Ray* rays, int count, const Bounds3& root, double beta, 
   }
 }
 
-// instance_at for the lanes entering one instance, in turn: a lane whose time has the same
-// bits as the last one's reuses its transform (instance_at is deterministic, so the result
-// is the same bits either way). Static instances are themselves.
-class LaneInstance {
- public:
-  LaneInstance(const InstancedGeometry& motions, const Instance& inst) : motions_(motions), inst_(inst) {}
-  const Instance& at(float time) {
-    if (inst_.motion == kNoHit) return inst_;
-    const std::uint32_t bits = std::bit_cast<std::uint32_t>(time);
-    if (!have_ || bits != bits_) {
-      moved_ = instance_at(motions_, inst_, time);
-      bits_ = bits;
-      have_ = true;
-    }
-    return moved_;
-  }
-
- private:
-  const InstancedGeometry& motions_;
-  const Instance& inst_;
-  Instance moved_;
-  std::uint32_t bits_ = 0;
-  bool have_ = false;
-};
+namespace {
 
 // The shared stack: per entry a node and its lanes, per lane its interval.
 struct PacketStack {
@@ -95,6 +90,8 @@ struct PacketStack {
 
 // Descends from (node, mask) with the lanes' intervals in tmin/tmax to a leaf, pushing the
 // far children some lane still needs; returns false when no lane reaches a leaf.
+using two_level::PacketSetup;
+
 bool descend(const PacketSetup& p, const KdNode* nodes, std::uint32_t& node, std::uint64_t& mask, double* tmin,
              double* tmax, PacketStack& stack, int& sp) {
   while (!nodes[node].is_leaf()) {
@@ -144,26 +141,57 @@ void TwoLevelAccelerator::occluded_packet(const Ray* rays, bool* occluded, int c
     occluded_packet64(rays + i, occluded + i, count - i < kPacket ? count - i : kPacket);
 }
 
+// The direct instances take the whole packet, in ascending order (two_level.h).
+void TwoLevelAccelerator::intersect_direct(const Ray* rays, Hit* hits, int count) const {
+  Ray local[kPacket];
+  Hit local_hits[kPacket];
+  for (std::uint32_t i : direct_list_) {
+    const std::uint32_t mesh = instances_[i].mesh;
+    if (i == direct_list_.front()) {  // no hit yet: nothing to narrow
+      for (int k = 0; k < count; ++k) local[k] = ray_to_object(instances_[i], rays[k]);
+    } else {
+      for (int k = 0; k < count; ++k) local[k] = entered(i, rays[k], hits[k]);
+    }
+    bottoms_[mesh]->intersect_packet(local, local_hits, count);
+    for (int k = 0; k < count; ++k) {
+      if (!local_hits[k].valid()) continue;
+      hits[k] = local_hits[k];
+      hits[k].prim += mesh_first_[mesh];
+      hits[k].instance = i;
+    }
+  }
+}
+
 void TwoLevelAccelerator::intersect_packet64(const Ray* rays, Hit* hits, int count) const {
-  PacketSetup p;
-  setup_packet(rays, count, top_.bounds(), beta_, extent_, p);
   for (int k = 0; k < count; ++k) hits[k] = Hit{};
-  const std::uint64_t single = p.coherent ? p.scan : (p.scan | p.active);
-  for (std::uint64_t m = single; m != 0; m &= m - 1) hits[std::countr_zero(m)] = intersect(rays[std::countr_zero(m)]);
+  intersect_direct(rays, hits, count);
+  if (top_.bounds().empty()) return;
+  two_level::PacketSetup p;
+  setup_packet(rays, hits, 0, count, p);
+  // Few instances: each is offered to the lanes in turn, whatever their directions.
+  const bool few = !few_top_.empty();
+  const std::uint64_t single = p.coherent || few ? p.scan : (p.scan | p.active);
+  for (std::uint64_t m = single; m != 0; m &= m - 1) intersect_top(rays[std::countr_zero(m)], hits[std::countr_zero(m)]);
+  if (few) {
+    for (std::size_t j = 0; j < few_top_.size(); ++j)
+      enter_packet(few_top_[j], lanes_meeting_few(j, p.active, p), rays, p, hits);
+    return;
+  }
   if (!p.coherent || p.active == 0) return;
 
   PacketStack stack;
   two_level::Mailbox mailbox;
   double tmin[kPacket], tmax[kPacket];
-  Ray local[kPacket];
-  Hit local_hits[kPacket];
-  int lane_of[kPacket];
   const KdNode* nodes = top_.nodes().data();
   const std::uint32_t* items = top_.items().data();
   int sp = 0;
   stack.node[sp] = 0;
   stack.mask[sp] = p.active;
-  for (int k = 0; k < count; ++k) stack.tmin[sp][k] = p.rays[k].tmin, stack.tmax[sp][k] = p.rays[k].tmax;
+  for (std::uint64_t m = p.active; m != 0; m &= m - 1) {
+    const int k = std::countr_zero(m);
+    stack.tmin[sp][k] = p.rays[k].tmin;
+    stack.tmax[sp][k] = p.rays[k].tmax;
+  }
   ++sp;
   while (sp > 0) {
     --sp;
@@ -182,52 +210,118 @@ void TwoLevelAccelerator::intersect_packet64(const Ray* rays, Hit* hits, int cou
     const KdNode leaf = nodes[node];
     for (std::uint32_t j = 0; j < leaf.count(); ++j) {
       const std::uint32_t i = items[leaf.first_slot() + j];
-      const Instance& inst = instances_[i];
-      LaneInstance lane_inst(motions_, inst);
-      int n = 0;
-      const bool moves = inst.motion != kNoHit;
-      for (std::uint64_t m = mailbox.enter(i, mask); m != 0; m &= m - 1) {
-        const int k = std::countr_zero(m);
-        if (moves && !fat_ray_meets_box(p.rays[k], moving_boxes_[i])) continue;
-        local[n] = ray_to_object(lane_inst.at(rays[k].time), rays[k]);
-        if (hits[k].valid()) local[n].tfar = i < hits[k].instance ? std::nextafter(hits[k].t, kInfinity) : hits[k].t;
-        lane_of[n++] = k;
-      }
-      if (n == 0) continue;
-      bottoms_[inst.mesh]->intersect_packet(local, local_hits, n);
-      for (int q = 0; q < n; ++q) {
-        if (!local_hits[q].valid()) continue;
-        Hit& h = hits[lane_of[q]];
-        h = local_hits[q];
-        h.prim += mesh_first_[inst.mesh];
-        h.instance = i;
-      }
+      enter_packet(i, mailbox.enter(i, mask), rays, p, hits);
     }
   }
 }
 
+// The lanes of `lanes` enter instance i as one packet (a moving instance: those that meet
+// its box over their time's key interval), tfar narrowed by the tie rule.
+void TwoLevelAccelerator::enter_packet(std::uint32_t i, std::uint64_t lanes, const Ray* rays,
+                                       const two_level::PacketSetup& p, Hit* hits) const {
+  const Instance& inst = instances_[i];
+  Ray local[kPacket];
+  Hit local_hits[kPacket];
+  int lane_of[kPacket];
+  int n = 0;
+  const bool moves = inst.motion != kNoHit;
+  for (std::uint64_t m = lanes; m != 0; m &= m - 1) {
+    const int k = std::countr_zero(m);
+    if (moves && !meets_moving(i, p.rays[k], rays[k].time)) continue;
+    local[n] = entered(i, rays[k], hits[k]);
+    lane_of[n++] = k;
+  }
+  if (n == 0) return;
+  bottoms_[inst.mesh]->intersect_packet(local, local_hits, n);
+  for (int q = 0; q < n; ++q) {
+    if (!local_hits[q].valid()) continue;
+    Hit& h = hits[lane_of[q]];
+    h = local_hits[q];
+    h.prim += mesh_first_[inst.mesh];
+    h.instance = i;
+  }
+}
+
+// The lanes of `lanes` that instance i blocks (tested as enter_packet enters them).
+std::uint64_t TwoLevelAccelerator::block_packet(std::uint32_t i, std::uint64_t lanes, const Ray* rays,
+                                                const two_level::PacketSetup& p) const {
+  const Instance& inst = instances_[i];
+  Ray local[kPacket];
+  bool local_blocked[kPacket];
+  int lane_of[kPacket];
+  int n = 0;
+  const bool moves = inst.motion != kNoHit;
+  for (std::uint64_t m = lanes; m != 0; m &= m - 1) {
+    const int k = std::countr_zero(m);
+    if (moves && !meets_moving(i, p.rays[k], rays[k].time)) continue;
+    local[n] = moves ? ray_to_object(at_time(i, rays[k].time), rays[k]) : ray_to_object(inst, rays[k]);
+    lane_of[n++] = k;
+  }
+  std::uint64_t blocked = 0;
+  if (n == 0) return blocked;
+  bottoms_[inst.mesh]->occluded_packet(local, local_blocked, n);
+  for (int q = 0; q < n; ++q)
+    if (local_blocked[q]) blocked |= std::uint64_t(1) << lane_of[q];
+  return blocked;
+}
+
+// The lanes of `lanes` that can meet few_top_[j]'s box (a static instance's; a moving
+// one's box is tested per lane and time when it is entered).
+std::uint64_t TwoLevelAccelerator::lanes_meeting_few(std::size_t j, std::uint64_t lanes,
+                                                     const two_level::PacketSetup& p) const {
+  if (instances_[few_top_[j]].motion != kNoHit) return lanes;
+  std::uint64_t out = 0;
+  for (std::uint64_t m = lanes; m != 0; m &= m - 1) {
+    const int k = std::countr_zero(m);
+    if (fat_ray_meets_box(p.rays[k], few_top_boxes_[j])) out |= std::uint64_t(1) << k;
+  }
+  return out;
+}
+
 void TwoLevelAccelerator::occluded_packet64(const Ray* rays, bool* occluded, int count) const {
-  PacketSetup p;
-  setup_packet(rays, count, top_.bounds(), beta_, extent_, p);
   for (int k = 0; k < count; ++k) occluded[k] = false;
-  const std::uint64_t single = p.coherent ? p.scan : (p.scan | p.active);
+  // The direct instances take the whole packet; the lanes they block are done.
+  std::uint64_t done = 0;
+  bool direct_blocked[kPacket];
+  Ray local[kPacket];
+  for (std::uint32_t i : direct_list_) {
+    for (int k = 0; k < count; ++k) local[k] = ray_to_object(instances_[i], rays[k]);
+    bottoms_[instances_[i].mesh]->occluded_packet(local, direct_blocked, count);
+    for (int k = 0; k < count; ++k)
+      if (direct_blocked[k]) occluded[k] = true, done |= std::uint64_t(1) << k;
+  }
+  if (top_.bounds().empty()) return;
+  two_level::PacketSetup p;
+  setup_packet(rays, nullptr, done, count, p);
+  const bool few = !few_top_.empty();
+  const std::uint64_t single = p.coherent || few ? p.scan : (p.scan | p.active);
   for (std::uint64_t m = single; m != 0; m &= m - 1)
-    occluded[std::countr_zero(m)] = this->occluded(rays[std::countr_zero(m)]);
+    occluded[std::countr_zero(m)] = occluded_top(rays[std::countr_zero(m)]);
+  if (few) {
+    std::uint64_t open = p.active;
+    for (std::size_t j = 0; j < few_top_.size() && open != 0; ++j) {
+      const std::uint64_t blocked = block_packet(few_top_[j], lanes_meeting_few(j, open, p), rays, p);
+      for (std::uint64_t m = blocked; m != 0; m &= m - 1) occluded[std::countr_zero(m)] = true;
+      open &= ~blocked;
+    }
+    return;
+  }
   if (!p.coherent || p.active == 0) return;
 
   PacketStack stack;
   two_level::Mailbox mailbox;
   double tmin[kPacket], tmax[kPacket];
-  Ray local[kPacket];
-  bool local_blocked[kPacket];
-  int lane_of[kPacket];
   const KdNode* nodes = top_.nodes().data();
   const std::uint32_t* items = top_.items().data();
   std::uint64_t open = p.active;  // lanes not yet known to be occluded
   int sp = 0;
   stack.node[sp] = 0;
   stack.mask[sp] = p.active;
-  for (int k = 0; k < count; ++k) stack.tmin[sp][k] = p.rays[k].tmin, stack.tmax[sp][k] = p.rays[k].tmax;
+  for (std::uint64_t m = p.active; m != 0; m &= m - 1) {
+    const int k = std::countr_zero(m);
+    stack.tmin[sp][k] = p.rays[k].tmin;
+    stack.tmax[sp][k] = p.rays[k].tmax;
+  }
   ++sp;
   while (sp > 0 && open != 0) {
     --sp;
@@ -243,24 +337,10 @@ void TwoLevelAccelerator::occluded_packet64(const Ray* rays, bool* occluded, int
     const KdNode leaf = nodes[node];
     for (std::uint32_t j = 0; j < leaf.count() && mask != 0; ++j) {
       const std::uint32_t i = items[leaf.first_slot() + j];
-      const Instance& inst = instances_[i];
-      LaneInstance lane_inst(motions_, inst);
-      int n = 0;
-      const bool moves = inst.motion != kNoHit;
-      for (std::uint64_t m = mailbox.enter(i, mask); m != 0; m &= m - 1) {
-        const int k = std::countr_zero(m);
-        if (moves && !fat_ray_meets_box(p.rays[k], moving_boxes_[i])) continue;
-        local[n] = ray_to_object(lane_inst.at(rays[k].time), rays[k]);
-        lane_of[n++] = k;
-      }
-      if (n == 0) continue;
-      bottoms_[inst.mesh]->occluded_packet(local, local_blocked, n);
-      for (int q = 0; q < n; ++q) {
-        if (!local_blocked[q]) continue;
-        occluded[lane_of[q]] = true;
-        mask &= ~(std::uint64_t(1) << lane_of[q]);
-        open &= ~(std::uint64_t(1) << lane_of[q]);
-      }
+      const std::uint64_t blocked = block_packet(i, mailbox.enter(i, mask), rays, p);
+      for (std::uint64_t m = blocked; m != 0; m &= m - 1) occluded[std::countr_zero(m)] = true;
+      mask &= ~blocked;
+      open &= ~blocked;
     }
   }
 }

@@ -55,16 +55,23 @@ inline constexpr double kTopMinDir = 0x1p-60, kTopMaxDir = 0x1p60;
 
 enum class TopPlan { Miss, Traverse, Scan };
 
+// max and min for operands that are not NaN where they are used below (finite, or a range
+// end that may be infinite): inline compares, where std::fmax and std::fmin are libm calls.
+inline double larger(double a, double b) { return a > b ? a : b; }
+inline double smaller(double a, double b) { return a < b ? a : b; }
+
+// setup_top_ray sets plan, and the other fields only for TopPlan::Traverse (a packet sets up
+// 64 lanes per call; most miss the top level).
 struct TopRay {
-  TopPlan plan = TopPlan::Miss;
-  double org[3] = {0, 0, 0};
-  double inv_dir[3] = {0, 0, 0};
-  double slack[3] = {0, 0, 0};  // eps / |dir[axis]|: the fat ray's parameter margin at a plane
-  double eps = 0.0;             // the fat ray's radius
-  double t_abs = 0.0;           // t_slack's absolute part
-  bool parallel[3] = {false, false, false};  // dir[axis] == 0
-  bool negative[3] = {false, false, false};  // dir[axis] < 0: the right child comes first
-  double tmin = 0.0, tmax = 0.0;             // the ray's range within the widened root box
+  TopPlan plan;
+  double org[3];
+  double inv_dir[3];  // 0 on a parallel axis
+  double slack[3];    // eps / |dir[axis]|: the fat ray's parameter margin at a plane (0 if parallel)
+  double eps;         // the fat ray's radius
+  double t_abs;       // t_slack's absolute part
+  bool parallel[3];   // dir[axis] == 0
+  bool negative[3];   // dir[axis] < 0: the right child comes first
+  double tmin, tmax;  // the ray's range within the widened root box
 };
 
 // Below this a hit at t cannot come from a cell entered at `entry` (or later).
@@ -74,51 +81,117 @@ inline double lowest_hit_in_cell(const TopRay& tr, double entry) {
 
 // `beta` and `extent` (max E L) as above, the largest over the instances; `root` the union
 // of the widened boxes.
-inline TopRay setup_top_ray(const Ray& ray, const Bounds3& root, double beta, double extent) {
-  TopRay tr;
+inline void setup_top_ray(const Ray& ray, const Bounds3& root, double beta, double extent, TopRay& tr) {
+  tr.plan = TopPlan::Scan;
   double org_norm = 0.0, dir_norm = 0.0;
   for (int a = 0; a < 3; ++a) {
-    if (!std::isfinite(ray.org[a]) || !std::isfinite(ray.dir[a])) {
-      tr.plan = TopPlan::Scan;
-      return tr;
-    }
-    org_norm = std::fmax(org_norm, std::fabs(double(ray.org[a])));
-    dir_norm = std::fmax(dir_norm, std::fabs(double(ray.dir[a])));
+    if (!std::isfinite(ray.org[a]) || !std::isfinite(ray.dir[a])) return;
+    org_norm = larger(org_norm, std::fabs(double(ray.org[a])));
+    dir_norm = larger(dir_norm, std::fabs(double(ray.dir[a])));
   }
   if (std::isnan(ray.tnear) || std::isnan(ray.tfar) || org_norm > kTopMaxOrigin || dir_norm < kTopMinDir ||
-      dir_norm > kTopMaxDir) {
-    tr.plan = TopPlan::Scan;
-    return tr;
-  }
-  if (root.empty()) return tr;  // Miss
+      dir_norm > kTopMaxDir)
+    return;
+  tr.plan = TopPlan::Miss;
+  if (root.empty()) return;
 
-  tr.eps = beta * org_norm;
-  tr.t_abs = kTopRelativeSlack * extent / dir_norm;
+  const double eps = beta * org_norm;
+  const double t_abs = kTopRelativeSlack * extent / dir_norm;
   double t0 = double(ray.tnear), t1 = double(ray.tfar);
-  t0 -= std::fabs(t0) * kTopRelativeSlack + tr.t_abs;  // a hit reported at tnear may lie just before it
-  if (std::isfinite(t1)) t1 += std::fabs(t1) * kTopRelativeSlack + tr.t_abs;
+  t0 -= std::fabs(t0) * kTopRelativeSlack + t_abs;  // a hit reported at tnear may lie just before it
+  if (std::isfinite(t1)) t1 += std::fabs(t1) * kTopRelativeSlack + t_abs;
   for (int a = 0; a < 3; ++a) {
     const double o = ray.org[a], d = ray.dir[a];
-    const double lo = double(root.lo[a]) - tr.eps, hi = double(root.hi[a]) + tr.eps;
+    const double lo = double(root.lo[a]) - eps, hi = double(root.hi[a]) + eps;
     tr.org[a] = o;
     tr.parallel[a] = d == 0.0;
     tr.negative[a] = d < 0.0;
     if (tr.parallel[a]) {
-      if (o < lo || o > hi) return tr;  // Miss
+      if (o < lo || o > hi) return;  // Miss
+      tr.inv_dir[a] = 0.0;
+      tr.slack[a] = 0.0;
       continue;
     }
     tr.inv_dir[a] = 1.0 / d;
-    tr.slack[a] = tr.eps * std::fabs(tr.inv_dir[a]);
-    double ta = (lo - o) * tr.inv_dir[a], tb = (hi - o) * tr.inv_dir[a];
-    if (ta > tb) std::swap(ta, tb);
-    t0 = std::fmax(t0, ta - std::fabs(ta) * kTopPlaneSlack);
-    t1 = std::fmin(t1, tb + std::fabs(tb) * kTopPlaneSlack);
+    tr.slack[a] = eps * std::fabs(tr.inv_dir[a]);
+    const double ta = (lo - o) * tr.inv_dir[a], tb = (hi - o) * tr.inv_dir[a];
+    const double enter = smaller(ta, tb), leave = larger(ta, tb);  // no branch: the sign is not predictable
+    t0 = larger(t0, enter - std::fabs(enter) * kTopPlaneSlack);
+    t1 = smaller(t1, leave + std::fabs(leave) * kTopPlaneSlack);
   }
-  if (!(t0 <= t1)) return tr;  // Miss
+  if (!(t0 <= t1)) return;  // Miss
   tr.plan = TopPlan::Traverse;
+  tr.eps = eps;
+  tr.t_abs = t_abs;
   tr.tmin = t0;
   tr.tmax = t1;
+}
+
+inline TopRay setup_top_ray(const Ray& ray, const Bounds3& root, double beta, double extent) {
+  TopRay tr{};
+  setup_top_ray(ray, root, beta, extent, tr);
   return tr;
+}
+
+// A cheap first test, before setup_top_ray, for a ray whose tfar is finite (most often a
+// hit already found in a direct instance): true only if setup_top_ray would answer Miss
+// (false for any ray it would Scan).
+// It needs no division: the points of the ray over setup_top_ray's widened range
+// [tnear - d0, tfar + d1] lie within w = 2^-12 (max(|tnear|, |tfar|) max|dir| + extent) of
+// the box of the segment's end points at tnear and tfar (d0 and d1 are at most
+// 2^-12 (|t| + extent / max|dir|)); if that box, widened by w, misses the root widened by
+// eps = beta |org| and by a margin far above the rounding of both computations (the end
+// points' double rounding and the slab test's kTopPlaneSlack, both below 2^-39 of the
+// magnitudes involved), some axis's slab interval misses the ray's range.
+// The ray's segment box, widened as above, for testing against boxes whose coordinates are
+// at most `box_norm` in magnitude. `usable` is false for the rays the argument leaves to
+// setup_top_ray: not finite, an infinite tfar, or a ray setup_top_ray scans.
+struct SegmentBox {
+  bool usable = false;
+  double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};
+
+  // No branches: a packet tests every lane, and whether a lane misses is not predictable.
+  bool misses(const Bounds3& box) const {
+    bool out = false;
+    for (int a = 0; a < 3; ++a) out |= (lo[a] > double(box.hi[a])) | (hi[a] < double(box.lo[a]));
+    return usable & out;
+  }
+};
+
+inline SegmentBox segment_box(const Ray& ray, double beta, double extent, double box_norm) {
+  SegmentBox sb;
+  // x - x is NaN exactly when x is not finite.
+  const double t0 = ray.tnear, t1 = ray.tfar;
+  double org_norm = 0.0, dir_norm = 0.0, probe = (t0 - t0) + (t1 - t1);
+  for (int a = 0; a < 3; ++a) {
+    const double o = ray.org[a], d = ray.dir[a];
+    probe += (o - o) + (d - d);
+    org_norm = larger(org_norm, std::fabs(o));
+    dir_norm = larger(dir_norm, std::fabs(d));
+  }
+  sb.usable = (probe == 0.0) & (org_norm <= kTopMaxOrigin) & (dir_norm >= kTopMinDir) & (dir_norm <= kTopMaxDir) &
+              (t0 <= t1);
+  const double reach = larger(std::fabs(t0), std::fabs(t1)) * dir_norm;
+  const double margin = 0x1p-12 * (reach + extent) + beta * org_norm + 0x1p-30 * (org_norm + reach + box_norm);
+  for (int a = 0; a < 3; ++a) {
+    const double o = ray.org[a], d = ray.dir[a];
+    const double p0 = o + t0 * d, p1 = o + t1 * d;
+    sb.lo[a] = smaller(p0, p1) - margin;
+    sb.hi[a] = larger(p0, p1) + margin;
+  }
+  return sb;
+}
+
+// The largest magnitude of the box's coordinates (segment_box's box_norm).
+inline double box_norm(const Bounds3& box) {
+  double n = 0.0;
+  for (int a = 0; a < 3; ++a) n = larger(n, larger(std::fabs(double(box.lo[a])), std::fabs(double(box.hi[a]))));
+  return n;
+}
+
+inline bool segment_misses(const Ray& ray, const Bounds3& root, double beta, double extent) {
+  if (root.empty()) return segment_box(ray, beta, extent, 0.0).usable;
+  return segment_box(ray, beta, extent, box_norm(root)).misses(root);
 }
 
 // Whether the fat ray can meet `box` (an instance's widened world box, the one the top
@@ -134,10 +207,10 @@ inline bool fat_ray_meets_box(const TopRay& tr, const Bounds3& box) {
       if (tr.org[a] < lo || tr.org[a] > hi) return false;
       continue;
     }
-    double ta = (lo - tr.org[a]) * tr.inv_dir[a], tb = (hi - tr.org[a]) * tr.inv_dir[a];
-    if (ta > tb) std::swap(ta, tb);
-    t0 = std::fmax(t0, ta - std::fabs(ta) * kTopPlaneSlack);
-    t1 = std::fmin(t1, tb + std::fabs(tb) * kTopPlaneSlack);
+    const double ta = (lo - tr.org[a]) * tr.inv_dir[a], tb = (hi - tr.org[a]) * tr.inv_dir[a];
+    const double enter = smaller(ta, tb), leave = larger(ta, tb);
+    t0 = larger(t0, enter - std::fabs(enter) * kTopPlaneSlack);
+    t1 = smaller(t1, leave + std::fabs(leave) * kTopPlaneSlack);
   }
   return t0 <= t1;
 }
@@ -159,7 +232,7 @@ inline TopStep top_step(const TopRay& tr, int axis, float split, bool negative, 
   }
   const double tp = (p - tr.org[axis]) * tr.inv_dir[axis];
   const double s = tr.slack[axis] + std::fabs(tp) * kTopPlaneSlack;
-  return {tmin <= tp + s, tp - s <= tmax, std::fmin(tmax, tp + s), std::fmax(tmin, tp - s)};
+  return {tmin <= tp + s, tp - s <= tmax, smaller(tmax, tp + s), larger(tmin, tp - s)};
 }
 
 // The instances a ray (or which lanes of a packet) entered lately. An instance straddling

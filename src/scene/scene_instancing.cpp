@@ -75,6 +75,13 @@ std::optional<MotionKey> motion_key(const glm::dmat4& world) {
   if (glm::determinant(q) < 0.0) q = -q;
   glm::dmat3 stretch = glm::transpose(q) * linear;
   stretch = 0.5 * (stretch + glm::transpose(stretch));  // symmetric up to rounding: exactly
+  // A rotation's stretch is the identity but for rounding (about 1e-16), which would survive
+  // into float as tiny off-diagonal entries: make it exact, so a rigid motion stays rigid
+  // and instance_at interpolates it without a stretch. 2^-30 is far below float's 2^-24.
+  double off_identity = 0.0;
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r) off_identity = std::max(off_identity, std::fabs(stretch[c][r] - (c == r ? 1.0 : 0.0)));
+  if (off_identity <= 0x1p-30) stretch = glm::dmat3(1.0);
   MotionKey key;
   key.translation = glm::vec3(glm::dvec3(world[3]));
   key.rotation = glm::quat(glm::normalize(glm::quat_cast(q)));

@@ -19,7 +19,11 @@
 namespace lancer::test {
 namespace {
 
-class TwoLevelMotion : public KdIsaTest {};
+class TwoLevelMotion : public KdIsaTest {
+ protected:
+  void check_against_definition(int extra);
+  void packets_match_single_rays(int extra);
+};
 
 // (a) At a time t, a moving instance answers exactly as a static instance holding
 // instance_at(geometry, inst, t)'s transforms: same hits, same bits, kd-tree and
@@ -55,11 +59,19 @@ TEST_P(TwoLevelMotion, MovingInstanceIsItsStaticSelfAtEachTime) {
 // (b) Against the definition, rays at random times: far translations, turns of up to 179
 // degrees per key (cubes off their origin sweep half circles, whose bulge between the box's
 // time samples the margin must hold), changing and mirrored stretches, still instances.
+// Both ways through the top level: its tree (15 instances besides the direct one) and one
+// by one (7).
 TEST_P(TwoLevelMotion, MatchesTheDefinitionAtRandomTimes) {
-  const InstancedScene s = random_moving_scene(isa_seed() + 201);
+  for (const int extra : {8, 0}) check_against_definition(extra);
+}
+
+void TwoLevelMotion::check_against_definition(int extra) {
+  SCOPED_TRACE(extra == 0 ? "few instances" : "the top level's tree");
+  const InstancedScene s = random_moving_scene(isa_seed() + 201 + std::uint64_t(extra), extra);
   const Bounds3 box = sampled_scene_box(s);
   const TwoLevelAccelerator kd(s.tris, s.geometry, "kdtree", {}, isa());
   const TwoLevelAccelerator brute(s.tris, s.geometry, "brute");
+  ASSERT_EQ(kd.meets_few_instances(), extra == 0);
   const MotionScan scan(s);
   std::size_t hits = 0, ties = 0;
   std::vector<bool> seen(s.geometry.instances.size(), false);
@@ -144,9 +156,15 @@ TEST_P(TwoLevelMotion, SweepingCornersStayInsideTheBoxes) {
 // its own time, runs of lanes sharing one (the transform reused), one time for all, and
 // partial packets; camera tiles, shadow packets and incoherent rays.
 TEST_P(TwoLevelMotion, PacketsWithMixedTimesMatchSingleRays) {
-  const InstancedScene s = random_moving_scene(isa_seed() + 401, 12);
+  for (const int extra : {12, 0}) packets_match_single_rays(extra);
+}
+
+void TwoLevelMotion::packets_match_single_rays(int extra) {
+  SCOPED_TRACE(extra == 0 ? "few instances" : "the top level's tree");
+  const InstancedScene s = random_moving_scene(isa_seed() + 401 + std::uint64_t(extra), extra);
   const Bounds3 box = sampled_scene_box(s);
   const TwoLevelAccelerator accel(s.tris, s.geometry, "kdtree", {}, isa());
+  ASSERT_EQ(accel.meets_few_instances(), extra == 0);
   TestRng rng(isa_seed() + 402);
   std::size_t rays = 0, hits = 0, occluded = 0;
   auto check = [&](const std::vector<Ray>& packet) {
@@ -202,7 +220,8 @@ TEST_P(TwoLevelMotion, PacketsWithMixedTimesMatchSingleRays) {
     check(packet);
     if (HasFatalFailure()) return;
   }
-  EXPECT_GT(hits, rays / 4);
+  // The few-instance crowd is sparser (7 instances, not 19): fewer of its rays hit.
+  EXPECT_GT(hits, rays / (extra == 0 ? 6 : 4));
   EXPECT_GT(occluded, 0u);
 }
 
@@ -323,6 +342,62 @@ TEST(InstanceAt, KeysClampingAndInterpolation) {
   Instance still = instance_from_key(0, keys[1]);
   EXPECT_TRUE(same_transforms(instance_at(g, still, 0.6f), still));
   EXPECT_EQ(instance_at(g, still, 0.6f).motion, kNoHit);
+}
+
+// PreparedMotions (the accelerator's interpolation, with each span's constants computed
+// once) gives instance_at's bits (the renderer's), which the ray offsets rely on: changing
+// stretches, rigid spans (the stretch's inverse kept), nearly equal rotations (the linear
+// blend) and half turns, at keys, between them and clamped.
+TEST(InstanceAt, PreparedMotionsGiveInstanceAtsBits) {
+  InstancedGeometry g;
+  TestRng rng(21);
+  std::vector<Instance> moving;
+  moving.push_back(moving_instance(
+      g, {make_key({1, 2, 3}, about(rng.direction(), 33), random_stretch(rng, {1.1, 0.7, 1.3})),
+          make_key({-4, 0, 5}, about(rng.direction(), 120), random_stretch(rng, {0.5, 1.0, 1.5})),
+          make_key({2, -6, 1}, about(rng.direction(), 70), random_stretch(rng, {0.9, 0.9, 0.9}))}));
+  const glm::mat3 rigid = random_stretch(rng, {1.2, 0.8, 1.0});
+  moving.push_back(moving_instance(g, {make_key({0, 0, 0}, about({0, 0, 1}, 0), rigid),
+                                       make_key({3, 1, 0}, about({0, 1, 1}, 179), rigid)}));
+  moving.push_back(moving_instance(g, {make_key({0, 0, 0}, about({1, 0, 0}, 10)),
+                                       make_key({0, 0, 1}, about({1, 0, 0}, 10.5f))}));  // lerp
+  const PreparedMotions prepared(g);
+  std::vector<float> times = {0.0f, 0.5f, 1.0f, -1.0f, 2.0f, std::numeric_limits<float>::quiet_NaN()};
+  while (times.size() < 200) times.push_back(rng.uniform());
+  for (std::size_t m = 0; m < moving.size(); ++m)
+    for (float t : times) {
+      const Instance a = prepared.at(moving[m], t), b = instance_at(g, moving[m], t);
+      ASSERT_TRUE(same_transforms(a, b)) << "motion " << m << " at " << t;
+      ASSERT_EQ(a.motion, b.motion);
+      // to_object inverts to_world (the rigid span's stretch^-1 rotation^T included).
+      const glm::vec3 p(0.3f, -1.7f, 2.2f), back = a.to_object.point(a.to_world.point(p));
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(back[c], p[c], 1e-5f) << "motion " << m << " at " << t;
+    }
+}
+
+// Two accelerators over the same instances moving differently, queried in turn at the same
+// times from one thread: each answers by its own motions (the per-thread memo of moved
+// transforms is keyed by accelerator).
+TEST_P(TwoLevelMotion, AcceleratorsKeepTheirOwnMovedTransforms) {
+  const InstancedScene a = random_moving_scene(isa_seed() + 701);
+  InstancedScene b = a;
+  for (InstanceMotion& m : b.geometry.motions)
+    for (MotionKey& k : m.keys) k.translation += glm::vec3(0.5f, -0.25f, 0.125f);
+  const TwoLevelAccelerator first(a.tris, a.geometry, "kdtree", {}, isa());
+  const TwoLevelAccelerator second(b.tris, b.geometry, "kdtree", {}, isa());
+  const MotionScan scan_a(a), scan_b(b);
+  const Bounds3 box = sampled_scene_box(a);
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < 1500; ++i) {
+    Ray r = moving_scene_ray(a, box, isa_seed() + 702, i);
+    r.time = float(i % 5) / 4.0f + (i % 5 == 4 ? -0.125f : 0.0625f);  // few times, shared by both
+    const Hit ea = scan_a.intersect(r), eb = scan_b.intersect(r);
+    ASSERT_TRUE(same_bits(first.intersect(r), ea)) << describe_moving(r);
+    ASSERT_TRUE(same_bits(second.intersect(r), eb)) << describe_moving(r);
+    ASSERT_TRUE(same_bits(first.intersect(r), ea)) << describe_moving(r);
+    differ += same_bits(ea, eb) ? 0 : 1;
+  }
+  EXPECT_GT(differ, 100u) << "the two motions should give different answers";
 }
 
 INSTANTIATE_TEST_SUITE_P(AllIsas, TwoLevelMotion, ::testing::ValuesIn(kd_test_isas()), kd_isa_param_name);

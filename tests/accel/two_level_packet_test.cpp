@@ -36,8 +36,9 @@ class TwoLevelPacket : public KdIsaTest {
   void SetUp() override {
     KdIsaTest::SetUp();
     if (IsSkipped()) return;
-    scene_ = random_instanced_scene(isa_seed() + 21, 16);
+    scene_ = random_instanced_scene(isa_seed() + 21 + std::uint64_t(extra_instances()), extra_instances());
     kd_ = std::make_unique<TwoLevelAccelerator>(scene_.tris, scene_.geometry, "kdtree", KdBuildOptions{}, isa());
+    ASSERT_EQ(kd_->meets_few_instances(), extra_instances() == 0);
     brute_ = std::make_unique<TwoLevelAccelerator>(scene_.tris, scene_.geometry, "brute");
     flat_ = flatten(scene_);
     box_ = flat_.tris.bounds();
@@ -73,6 +74,12 @@ class TwoLevelPacket : public KdIsaTest {
     cov.partial_packets += (hit_count > 0 && hit_count < rays.size()) ? 1 : 0;
   }
 
+  // 16: the top level's tree (23 instances); 0: few instances, met one by one.
+  virtual int extra_instances() const { return 16; }
+
+  void camera_tiles_and_shadow_packets();
+  void incoherent_and_partial_packets();
+
   Pinhole view(glm::vec3 from, float fov) const {
     const glm::vec3 c = box_.center(), e = box_.extent();
     const float reach = std::fmax(e.x, std::fmax(e.y, e.z));
@@ -87,7 +94,7 @@ class TwoLevelPacket : public KdIsaTest {
 
 // 8x8 camera tiles from outside at two distances and a wide view from the centre (tiles
 // there have mixed signs), and shadow packets from the camera hits towards a point light.
-TEST_P(TwoLevelPacket, CameraTilesAndShadowPackets) {
+void TwoLevelPacket::camera_tiles_and_shadow_packets() {
   Coverage cov;
   const Pinhole views[] = {view({0.3f, 0.4f, 1.1f}, 45.0f), view({-0.9f, 0.2f, -0.7f}, 60.0f),
                            view({0.01f, 0.02f, 0.03f}, 110.0f)};
@@ -120,7 +127,7 @@ TEST_P(TwoLevelPacket, CameraTilesAndShadowPackets) {
 
 // Incoherent packets of every ray kind (mixed signs, origins inside instances, segments,
 // axis-parallel and distant rays) and partial packets of 1..64 rays, coherent or not.
-TEST_P(TwoLevelPacket, IncoherentAndPartialPackets) {
+void TwoLevelPacket::incoherent_and_partial_packets() {
   Coverage cov;
   for (std::size_t p = 0; p < 24; ++p) {
     std::vector<Ray> rays;
@@ -147,6 +154,16 @@ TEST_P(TwoLevelPacket, IncoherentAndPartialPackets) {
   EXPECT_GT(cov.hits, cov.rays / 4);
   EXPECT_GT(cov.mixed_packets, 0u);
 }
+
+class TwoLevelPacketFew : public TwoLevelPacket {
+ protected:
+  int extra_instances() const override { return 0; }
+};
+
+TEST_P(TwoLevelPacket, CameraTilesAndShadowPackets) { camera_tiles_and_shadow_packets(); }
+TEST_P(TwoLevelPacketFew, CameraTilesAndShadowPackets) { camera_tiles_and_shadow_packets(); }
+TEST_P(TwoLevelPacket, IncoherentAndPartialPackets) { incoherent_and_partial_packets(); }
+TEST_P(TwoLevelPacketFew, IncoherentAndPartialPackets) { incoherent_and_partial_packets(); }
 
 // A deep top level: 3,000 small rotated boxes scattered through a volume, so packets use
 // many stack levels and leaves, and two large boxes straddling many leaves (entered once
@@ -192,6 +209,7 @@ TEST_P(TwoLevelPacket, ManyInstancesDeepTopLevel) {
 }
 
 INSTANTIATE_TEST_SUITE_P(AllIsas, TwoLevelPacket, ::testing::ValuesIn(kd_test_isas()), kd_isa_param_name);
+INSTANTIATE_TEST_SUITE_P(AllIsas, TwoLevelPacketFew, ::testing::ValuesIn(kd_test_isas()), kd_isa_param_name);
 
 }  // namespace
 }  // namespace lancer::test

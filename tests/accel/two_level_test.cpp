@@ -1,6 +1,7 @@
 // The two-level accelerator (two_level.h) on random instanced scenes: bit for bit the
 // definition (every instance scanned) with kd-tree and brute-force bottoms on every ISA,
 // the flattened world-space scene within stated tolerances, and its input checks.
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -27,14 +28,26 @@ std::string describe_hit(const Hit& h) {
   return s.str();
 }
 
-class TwoLevel : public KdIsaTest {};
+class TwoLevel : public KdIsaTest {
+ protected:
+  void check_against_definition(int extra);
+};
 
 // (a) kd-tree bottoms, brute-force bottoms and the definition agree bit for bit, for
 // closest hit and occlusion, on every ray kind; each ISA gets its own scene and rays.
+// Both ways through the top level: its tree (15 instances) and one by one (6 besides the
+// direct one).
 TEST_P(TwoLevel, KdBottomsMatchBruteBottomsAndTheDefinition) {
-  const InstancedScene s = random_instanced_scene(isa_seed() + 11);
+  for (const int extra : {8, 0}) check_against_definition(extra);
+}
+
+void TwoLevel::check_against_definition(int extra) {
+  SCOPED_TRACE(extra == 0 ? "few instances" : "the top level's tree");
+  const InstancedScene s = random_instanced_scene(isa_seed() + 11 + std::uint64_t(extra), extra);
   const TwoLevelAccelerator kd(s.tris, s.geometry, "kdtree", {}, isa());
   const TwoLevelAccelerator brute(s.tris, s.geometry, "brute");
+  ASSERT_EQ(kd.meets_few_instances(), extra == 0);
+  ASSERT_EQ(kd.direct_count(), 1u);
   const InstanceScan scan(s);
   const FlatScene flat = flatten(s);
   const Bounds3 box = flat.tris.bounds();
@@ -123,11 +136,12 @@ TEST(TwoLevelWorld, MatchesTheFlattenedSceneWithinTolerance) {
 }
 
 // The tie rule whatever the visit order: two instances share a quad in the plane x = 0
-// (the same float vertices, identity transforms: bit-identical t), instance 0 reaching to
-// x = -4 and instance 1 to x = +4, so the top level gives instance 1 a leaf of its own
-// beyond x = 0 (the boxes' margins overlap around the quad). Rays going -x visit instance 1
-// first, rays going +x instance 0; instance 0 must win both ways, in single rays and in
-// packets.
+// (the same float vertices and the same transform, a shift by 0.5 along x: bit-identical
+// t; not the identity, which would make them direct and keep them out of the top level),
+// instance 0 reaching to x = -4 and instance 1 to x = +4, so the top level gives instance 1
+// a leaf of its own beyond the quad (the boxes' margins overlap around the quad). Rays
+// going -x visit instance 1 first, rays going +x instance 0; instance 0 must win both ways,
+// in single rays and in packets.
 TEST_P(TwoLevel, TiesGoToTheLowerInstanceInAnyVisitOrder) {
   InstancedScene s;
   auto quad_and = [&](float x) {
@@ -138,9 +152,11 @@ TEST_P(TwoLevel, TiesGoToTheLowerInstanceInAnyVisitOrder) {
     return MeshRange{first, 3};
   };
   s.geometry.meshes = {quad_and(-4.0f), quad_and(4.0f)};
-  s.geometry.instances = {make_instance(0, glm::dmat3(1.0), {0, 0, 0}), make_instance(1, glm::dmat3(1.0), {0, 0, 0})};
+  s.geometry.instances = {make_instance(0, glm::dmat3(1.0), {0.5, 0, 0}),
+                          make_instance(1, glm::dmat3(1.0), {0.5, 0, 0})};
   for (const char* bottom : {"kdtree", "brute"}) {
     const TwoLevelAccelerator accel(s.tris, s.geometry, bottom, {}, isa());
+    ASSERT_EQ(accel.direct_count(), 0u);
     bool apart = false;  // some leaf lists instance 1 alone
     for (const KdNode& n : accel.top_level().nodes())
       apart = apart || (n.is_leaf() && n.count() == 1 && accel.top_level().items()[n.first_slot()] == 1);
@@ -163,6 +179,64 @@ TEST_P(TwoLevel, TiesGoToTheLowerInstanceInAnyVisitOrder) {
       EXPECT_EQ(h.instance, 0u) << bottom << ", " << describe(rays[i]);
       EXPECT_LT(h.prim, 2u) << "the shared quad";
       EXPECT_TRUE(same_bits(packet[i], h)) << bottom << " packet lane " << i;
+    }
+  }
+}
+
+// Direct instances (exactly the identity: entered before the top level, outside it) keep
+// the tie rule against the top level's: a quad at x = 0 drawn by the identity and, shifted
+// by 2 along x from a copy at x = -2, by a top-level instance (shifts by 2 are exact for
+// these rays, so both report bit-identical t). The lower instance wins whichever of the
+// two is direct, in single rays and packets.
+TEST_P(TwoLevel, DirectAndTopLevelInstancesTieByIndex) {
+  for (const bool direct_first : {true, false}) {
+    InstancedScene s;
+    auto quad_at = [&](float x) {
+      const auto first = static_cast<std::uint32_t>(s.tris.size());
+      s.tris.push_back({x, -1, -1}, {x, 1, -1}, {x, 1, 1});
+      s.tris.push_back({x, -1, -1}, {x, 1, 1}, {x, -1, 1});
+      return MeshRange{first, 2};
+    };
+    s.geometry.meshes = {quad_at(0.0f), quad_at(-2.0f)};
+    const Instance direct = make_instance(0, glm::dmat3(1.0), {0, 0, 0});
+    const Instance shifted = make_instance(1, glm::dmat3(1.0), {2, 0, 0});
+    s.geometry.instances = direct_first ? std::vector<Instance>{direct, shifted} : std::vector<Instance>{shifted, direct};
+    for (const char* bottom : {"kdtree", "brute"}) {
+      const TwoLevelAccelerator accel(s.tris, s.geometry, bottom, {}, isa());
+      ASSERT_EQ(accel.direct_count(), 1u);
+      for (const std::uint32_t item : accel.top_level().items())
+        ASSERT_EQ(item, direct_first ? 1u : 0u) << "a direct instance in the top level";
+      TestRng rng(isa_seed() + 6);
+      std::vector<Ray> rays;
+      for (int i = 0; i < 64; ++i) {
+        Ray r;
+        const float sign = i < 32 ? -1.0f : 1.0f;
+        r.org = {-10.0f * sign, rng.uniform(-0.4f, 0.4f), rng.uniform(-0.4f, 0.4f)};
+        r.dir = {sign, 0.05f * rng.uniform(-1.0f, 1.0f), 0.05f * rng.uniform(-1.0f, 1.0f)};
+        rays.push_back(r);
+      }
+      std::vector<Hit> packet(rays.size());
+      std::vector<char> blocked(rays.size());
+      accel.intersect_packet(rays.data(), packet.data(), 32);
+      accel.intersect_packet(rays.data() + 32, packet.data() + 32, 32);
+      accel.occluded_packet(rays.data(), reinterpret_cast<bool*>(blocked.data()), 64);
+      for (std::size_t i = 0; i < rays.size(); ++i) {
+        // A true tie: each drawing alone reports the same t bits.
+        InstancedGeometry alone = s.geometry;
+        alone.instances = {direct};
+        const Hit a = TwoLevelAccelerator(s.tris, alone, bottom, {}, isa()).intersect(rays[i]);
+        alone.instances = {shifted};
+        const Hit b = TwoLevelAccelerator(s.tris, alone, bottom, {}, isa()).intersect(rays[i]);
+        ASSERT_TRUE(a.valid() && b.valid()) << describe(rays[i]);
+        ASSERT_EQ(std::bit_cast<std::uint32_t>(a.t), std::bit_cast<std::uint32_t>(b.t)) << "not a tie";
+        const Hit h = accel.intersect(rays[i]);
+        ASSERT_TRUE(h.valid()) << describe(rays[i]);
+        EXPECT_EQ(h.instance, 0u) << bottom << (direct_first ? ", direct first, " : ", direct second, ")
+                                  << describe(rays[i]);
+        EXPECT_TRUE(same_bits(packet[i], h)) << bottom << " packet lane " << i;
+        EXPECT_TRUE(accel.occluded(rays[i]));
+        EXPECT_TRUE(blocked[i]) << bottom << " occluded packet lane " << i;
+      }
     }
   }
 }

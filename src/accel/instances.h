@@ -130,7 +130,6 @@ class PreparedMotions {
   PreparedMotions() = default;
   explicit PreparedMotions(const InstancedGeometry& geometry);
   Instance at(const Instance& inst, float time) const;
-  std::size_t key_count(std::uint32_t motion) const { return keys_[motion].size(); }
   std::size_t memory_bytes() const;
 
  private:

@@ -85,6 +85,8 @@ class TwoLevelAccelerator final : public Accelerator {
   // The packet's top-level rays (two_level_packet.cpp).
   void setup_packet(const Ray* rays, const Hit* hits, std::uint64_t skip, int count, two_level::PacketSetup& p) const;
   void intersect_packet64(const Ray* rays, Hit* hits, int count) const;
+  int gather_lanes(std::uint32_t i, std::uint64_t lanes, const Ray* rays, const two_level::PacketSetup& p,
+                   const Hit* hits, Ray* local, int* lane_of) const;
   void enter_packet(std::uint32_t i, std::uint64_t lanes, const Ray* rays, const two_level::PacketSetup& p,
                     Hit* hits) const;
   std::uint64_t block_packet(std::uint32_t i, std::uint64_t lanes, const Ray* rays,

@@ -215,22 +215,32 @@ void TwoLevelAccelerator::intersect_packet64(const Ray* rays, Hit* hits, int cou
   }
 }
 
-// The lanes of `lanes` enter instance i as one packet (a moving instance: those that meet
-// its box over their time's key interval), tfar narrowed by the tie rule.
+// The lanes of `lanes` that may meet instance i (a moving one: those meeting its box over
+// their time's key interval), moved into its space as local[0..n), tfar narrowed by the tie
+// rule against `hits` when given; lane_of maps them back. Returns n.
+int TwoLevelAccelerator::gather_lanes(std::uint32_t i, std::uint64_t lanes, const Ray* rays,
+                                      const two_level::PacketSetup& p, const Hit* hits, Ray* local,
+                                      int* lane_of) const {
+  const bool moves = instances_[i].motion != kNoHit;
+  const Hit none;
+  int n = 0;
+  for (std::uint64_t m = lanes; m != 0; m &= m - 1) {
+    const int k = std::countr_zero(m);
+    if (moves && !meets_moving(i, p.rays[k], rays[k].time)) continue;
+    local[n] = entered(i, rays[k], hits ? hits[k] : none);
+    lane_of[n++] = k;
+  }
+  return n;
+}
+
+// The lanes of `lanes` enter instance i as one packet (gather_lanes).
 void TwoLevelAccelerator::enter_packet(std::uint32_t i, std::uint64_t lanes, const Ray* rays,
                                        const two_level::PacketSetup& p, Hit* hits) const {
   const Instance& inst = instances_[i];
   Ray local[kPacket];
   Hit local_hits[kPacket];
   int lane_of[kPacket];
-  int n = 0;
-  const bool moves = inst.motion != kNoHit;
-  for (std::uint64_t m = lanes; m != 0; m &= m - 1) {
-    const int k = std::countr_zero(m);
-    if (moves && !meets_moving(i, p.rays[k], rays[k].time)) continue;
-    local[n] = entered(i, rays[k], hits[k]);
-    lane_of[n++] = k;
-  }
+  const int n = gather_lanes(i, lanes, rays, p, hits, local, lane_of);
   if (n == 0) return;
   bottoms_[inst.mesh]->intersect_packet(local, local_hits, n);
   for (int q = 0; q < n; ++q) {
@@ -249,14 +259,7 @@ std::uint64_t TwoLevelAccelerator::block_packet(std::uint32_t i, std::uint64_t l
   Ray local[kPacket];
   bool local_blocked[kPacket];
   int lane_of[kPacket];
-  int n = 0;
-  const bool moves = inst.motion != kNoHit;
-  for (std::uint64_t m = lanes; m != 0; m &= m - 1) {
-    const int k = std::countr_zero(m);
-    if (moves && !meets_moving(i, p.rays[k], rays[k].time)) continue;
-    local[n] = moves ? ray_to_object(at_time(i, rays[k].time), rays[k]) : ray_to_object(inst, rays[k]);
-    lane_of[n++] = k;
-  }
+  const int n = gather_lanes(i, lanes, rays, p, nullptr, local, lane_of);
   std::uint64_t blocked = 0;
   if (n == 0) return blocked;
   bottoms_[inst.mesh]->occluded_packet(local, local_blocked, n);

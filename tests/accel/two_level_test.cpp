@@ -135,6 +135,21 @@ TEST(TwoLevelWorld, MatchesTheFlattenedSceneWithinTolerance) {
   EXPECT_EQ(instances_hit, s.geometry.instances.size() - 1) << "every instance but the losing twin should be hit";
 }
 
+// 64 rays through the quad at x = 0 (|y|, |z| < 1 there): 32 going -x from x = 10, then
+// 32 going +x from x = -10.
+std::vector<Ray> rays_through_quad(std::uint64_t seed) {
+  TestRng rng(seed);
+  std::vector<Ray> rays;
+  for (int i = 0; i < 64; ++i) {
+    Ray r;
+    const float sign = i < 32 ? -1.0f : 1.0f;
+    r.org = {-10.0f * sign, rng.uniform(-0.4f, 0.4f), rng.uniform(-0.4f, 0.4f)};
+    r.dir = {sign, 0.05f * rng.uniform(-1.0f, 1.0f), 0.05f * rng.uniform(-1.0f, 1.0f)};
+    rays.push_back(r);
+  }
+  return rays;
+}
+
 // The tie rule whatever the visit order: two instances share a quad in the plane x = 0
 // (the same float vertices and the same transform, a shift by 0.5 along x: bit-identical
 // t; not the identity, which would make them direct and keep them out of the top level),
@@ -161,15 +176,7 @@ TEST_P(TwoLevel, TiesGoToTheLowerInstanceInAnyVisitOrder) {
     for (const KdNode& n : accel.top_level().nodes())
       apart = apart || (n.is_leaf() && n.count() == 1 && accel.top_level().items()[n.first_slot()] == 1);
     ASSERT_TRUE(apart) << "the top level should give instance 1 a leaf of its own";
-    TestRng rng(isa_seed() + 5);
-    std::vector<Ray> rays;
-    for (int i = 0; i < 64; ++i) {
-      Ray r;
-      const float sign = i < 32 ? -1.0f : 1.0f;
-      r.org = {-10.0f * sign, rng.uniform(-0.4f, 0.4f), rng.uniform(-0.4f, 0.4f)};
-      r.dir = {sign, 0.05f * rng.uniform(-1.0f, 1.0f), 0.05f * rng.uniform(-1.0f, 1.0f)};
-      rays.push_back(r);
-    }
+    const std::vector<Ray> rays = rays_through_quad(isa_seed() + 5);
     std::vector<Hit> packet(rays.size());
     accel.intersect_packet(rays.data(), packet.data(), 32);  // the -x rays, one coherent packet
     accel.intersect_packet(rays.data() + 32, packet.data() + 32, 32);
@@ -206,15 +213,7 @@ TEST_P(TwoLevel, DirectAndTopLevelInstancesTieByIndex) {
       ASSERT_EQ(accel.direct_count(), 1u);
       for (const std::uint32_t item : accel.top_level().items())
         ASSERT_EQ(item, direct_first ? 1u : 0u) << "a direct instance in the top level";
-      TestRng rng(isa_seed() + 6);
-      std::vector<Ray> rays;
-      for (int i = 0; i < 64; ++i) {
-        Ray r;
-        const float sign = i < 32 ? -1.0f : 1.0f;
-        r.org = {-10.0f * sign, rng.uniform(-0.4f, 0.4f), rng.uniform(-0.4f, 0.4f)};
-        r.dir = {sign, 0.05f * rng.uniform(-1.0f, 1.0f), 0.05f * rng.uniform(-1.0f, 1.0f)};
-        rays.push_back(r);
-      }
+      const std::vector<Ray> rays = rays_through_quad(isa_seed() + 6);
       std::vector<Hit> packet(rays.size());
       std::vector<char> blocked(rays.size());
       accel.intersect_packet(rays.data(), packet.data(), 32);

@@ -1,7 +1,9 @@
 #include "accel/instances.h"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstring>
 
 #include <glm/gtc/quaternion.hpp>
 #include <glm/mat3x3.hpp>
@@ -91,14 +93,61 @@ Instance blend(const Instance& inst, const MotionKey& a, const MotionKey& b, con
   return out;
 }
 
+// A per-thread memo of interpolated transforms. A path's rays all carry the path's time, so
+// the accelerator entering a moving instance for its camera ray, bounce and shadow rays and
+// the renderer drawing its hits ask for the same transform many times; an interpolation
+// (two sines, matrix products, an acos without a prepared span) costs about as much as a
+// bottom-level traversal. An entry is keyed by everything the result is a function of: the
+// two keys' bits, the key count and time (which give the fraction), the mesh and the motion
+// index. A hit therefore returns exactly the bits a computation would, whichever geometry,
+// accelerator or caller asked first. No lock and no allocation: a fixed table per thread.
+struct MovedMemo {
+  static constexpr int kBits = 9;
+  struct Entry {
+    MotionKey a, b;
+    std::uint32_t key_count = 0;  // 0: empty (motions have at least two keys)
+    std::uint32_t time_bits = 0, mesh = 0, motion = 0;
+    Instance value;
+  };
+  Entry entries[1 << kBits];
+};
+thread_local MovedMemo moved_memo;
+
+bool same_bits(const MotionKey& x, const MotionKey& y) { return std::memcmp(&x, &y, sizeof(MotionKey)) == 0; }
+
+// inst at `time`, which falls at k among its keys, from `span` (computed on a miss when
+// null: instance_at has no prepared spans).
+const Instance& moved(const Instance& inst, const std::vector<MotionKey>& keys, float time, const KeyTime& k,
+                      const MotionSpan* span) {
+  static_assert(sizeof(MotionKey) == 16 * sizeof(float), "MotionKey must hold no padding: entries compare its bytes");
+  const MotionKey &a = keys[k.interval], &b = keys[k.interval + 1];
+  const std::uint32_t bits = std::bit_cast<std::uint32_t>(time);
+  const std::uint32_t count = std::uint32_t(keys.size());
+  const std::uint32_t hash = (bits ^ (inst.motion * 0x9E3779B1u) ^ (inst.mesh * 0x7FEB352Du)) * 0x85EBCA6Bu;
+  MovedMemo::Entry& e = moved_memo.entries[hash >> (32 - MovedMemo::kBits)];
+  if (e.key_count == count && e.time_bits == bits && e.mesh == inst.mesh && e.motion == inst.motion &&
+      same_bits(e.a, a) && same_bits(e.b, b))
+    return e.value;
+  e.value = span ? blend(inst, a, b, *span, k.f) : blend(inst, a, b, make_span(a, b), k.f);
+  e.a = a;
+  e.b = b;
+  e.key_count = count;
+  e.time_bits = bits;
+  e.mesh = inst.mesh;
+  e.motion = inst.motion;
+  return e.value;
+}
+
 }  // namespace
+
+void forget_moved_instances() {
+  for (MovedMemo::Entry& e : moved_memo.entries) e.key_count = 0;
+}
 
 Instance instance_at(const InstancedGeometry& geometry, const Instance& inst, float time) {
   if (inst.motion == kNoHit) return inst;
   const std::vector<MotionKey>& keys = geometry.motions[inst.motion].keys;
-  const KeyTime k = key_time(keys.size(), time);
-  const MotionKey &a = keys[k.interval], &b = keys[k.interval + 1];
-  return blend(inst, a, b, make_span(a, b), k.f);
+  return moved(inst, keys, time, key_time(keys.size(), time), nullptr);
 }
 
 PreparedMotions::PreparedMotions(const InstancedGeometry& geometry) {
@@ -111,11 +160,14 @@ PreparedMotions::PreparedMotions(const InstancedGeometry& geometry) {
   }
 }
 
-Instance PreparedMotions::at(const Instance& inst, float time) const {
-  if (inst.motion == kNoHit) return inst;
+const Instance& PreparedMotions::moving_at(const Instance& inst, float time) const {
   const std::vector<MotionKey>& keys = keys_[inst.motion];
   const KeyTime k = key_time(keys.size(), time);
-  return blend(inst, keys[k.interval], keys[k.interval + 1], spans_[inst.motion][k.interval], k.f);
+  return moved(inst, keys, time, k, &spans_[inst.motion][k.interval]);
+}
+
+Instance PreparedMotions::at(const Instance& inst, float time) const {
+  return inst.motion == kNoHit ? inst : moving_at(inst, time);
 }
 
 std::size_t PreparedMotions::memory_bytes() const {

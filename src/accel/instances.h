@@ -108,8 +108,12 @@ inline KeyTime key_time(std::size_t key_count, float time) {
 
 // `inst` at `time` in [0, 1] (clamped; NaN counts as 0): itself when it does not move, else
 // its motion's keys interpolated and made an Instance by instance_from_key. Deterministic:
-// the same time gives the same bits wherever it is called.
+// the same time gives the same bits wherever it is called. Results are memoised per
+// thread (instances.cpp), keyed by all they depend on.
 Instance instance_at(const InstancedGeometry& geometry, const Instance& inst, float time);
+// Empties this thread's memo, so that the next instance_at or PreparedMotions::at computes
+// afresh (tests compare the two computations).
+void forget_moved_instances();
 
 // One key interval of a motion, with what every time inside it needs computed once: the
 // slerp's angle and direction (an acos per call otherwise), and the stretch's inverse when
@@ -130,6 +134,9 @@ class PreparedMotions {
   PreparedMotions() = default;
   explicit PreparedMotions(const InstancedGeometry& geometry);
   Instance at(const Instance& inst, float time) const;
+  // The same for an instance that moves, by reference into this thread's memo: good until
+  // the thread's next at, moving_at or instance_at.
+  const Instance& moving_at(const Instance& inst, float time) const;
   std::size_t memory_bytes() const;
 
  private:

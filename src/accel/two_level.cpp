@@ -1,6 +1,5 @@
 #include "accel/two_level.h"
 
-#include <atomic>
 #include <bit>
 #include <chrono>
 #include <cmath>
@@ -146,59 +145,32 @@ KdNode descend(const TopRay& tr, const KdNode* nodes, Entry e, Entry* stack, int
   return nodes[e.node];
 }
 
-// at_time's memo. A path's rays all carry the path's time, so its camera ray, bounce rays
-// and shadow rays enter a moving instance at the same time, and a thread advances the 64
-// paths of a block together (one time each); an interpolation (two sines, a 3x3 inverse)
-// costs about as much as a bottom-level traversal. Keyed by accelerator, instance and the
-// time's bits; PreparedMotions::at is a pure function, so a hit changes no bit.
-struct MovedInstances {
-  static constexpr int kBits = 7;
-  static constexpr int kSize = 1 << kBits;
-  struct Entry {
-    std::uint64_t owner = 0;  // 0: empty (accelerator ids start at 1)
-    std::uint32_t instance = 0, time_bits = 0;
-    Instance value;
-  };
-  Entry entries[kSize];
-};
-thread_local MovedInstances moved_instances;
-std::atomic<std::uint64_t> next_accelerator_id{1};
-
 }  // namespace
 
-const Instance& TwoLevelAccelerator::at_time(std::uint32_t i, float time) const {
-  const std::uint32_t bits = std::bit_cast<std::uint32_t>(time);
-  const std::uint32_t hash = (bits ^ (i * 0x9E3779B1u)) * 0x85EBCA6Bu;
-  MovedInstances::Entry& e = moved_instances.entries[hash >> (32 - MovedInstances::kBits)];
-  if (e.owner != id_ || e.instance != i || e.time_bits != bits) {
-    e.value = motions_.at(instances_[i], time);
-    e.owner = id_;
-    e.instance = i;
-    e.time_bits = bits;
-  }
-  return e.value;
-}
-
-bool TwoLevelAccelerator::surely_misses_top(const Ray& clipped) const {
-  if (few_top_.empty()) return two_level::segment_misses(clipped, top_.bounds(), beta_, extent_);
+unsigned TwoLevelAccelerator::few_met(const Ray& clipped, TopRay& tr) const {
+  // Each instance's box at the ray's time, looked up once for both tests.
+  const Bounds3* box[kFewTopInstances];
+  for (std::size_t j = 0; j < few_top_.size(); ++j) box[j] = &few_box(j, clipped.time);
   // Every box lies inside the top level's, so its norm serves them all.
   const two_level::SegmentBox sb = two_level::segment_box(clipped, beta_, extent_, top_norm_);
-  if (!sb.usable) return false;
-  for (std::size_t j = 0; j < few_top_.size(); ++j) {
-    const std::uint32_t i = few_top_[j];
-    const Bounds3& box = instances_[i].motion == kNoHit ? few_top_boxes_[j] : interval_box(i, clipped.time);
-    if (!sb.misses(box)) return false;
+  unsigned met = (1u << few_top_.size()) - 1;
+  if (sb.usable) {
+    for (std::size_t j = 0; j < few_top_.size(); ++j)
+      if (sb.misses(*box[j])) met &= ~(1u << j);
+    if (met == 0) {
+      tr.plan = TopPlan::Miss;
+      return 0;
+    }
   }
-  return true;
-}
-
-bool TwoLevelAccelerator::meets_few(std::size_t j, const two_level::TopRay& tr, float time) const {
-  const std::uint32_t i = few_top_[j];
-  return instances_[i].motion == kNoHit ? fat_ray_meets_box(tr, few_top_boxes_[j]) : meets_moving(i, tr, time);
+  setup_top_ray(clipped, top_.bounds(), beta_, extent_, tr);
+  if (tr.plan != TopPlan::Traverse) return 0;
+  for (unsigned m = met; m != 0; m &= m - 1)
+    if (!fat_ray_meets_box(tr, *box[std::countr_zero(m)])) met &= ~(1u << std::countr_zero(m));
+  return met;
 }
 
 bool TwoLevelAccelerator::meets_moving(std::uint32_t i, const two_level::TopRay& tr, float time) const {
-  return fat_ray_meets_box(tr, interval_box(i, time));
+  return fat_ray_meets_box(tr, piece_box(i, time));
 }
 
 TwoLevelAccelerator::TwoLevelAccelerator(const TriangleSoA& tris, const InstancedGeometry& geometry,
@@ -216,7 +188,6 @@ TwoLevelAccelerator::TwoLevelAccelerator(const TriangleSoA& tris, const Instance
   }
   validate(tris, geometry);
   two_level::validate_motions(geometry);
-  id_ = next_accelerator_id.fetch_add(1, std::memory_order_relaxed);
 
   const std::size_t mesh_count = geometry.meshes.size();
   std::vector<bool> used(mesh_count, false);
@@ -250,8 +221,8 @@ TwoLevelAccelerator::TwoLevelAccelerator(const TriangleSoA& tris, const Instance
       direct_list_.push_back(i);
     }
   std::vector<Bounds3> boxes(instances_.size());
-  interval_first_.assign(instances_.size(), 0);
-  interval_keys_.assign(instances_.size(), 0);
+  piece_first_.assign(instances_.size(), 0);
+  piece_count_.assign(instances_.size(), 0);
   for (std::size_t i = 0; i < instances_.size(); ++i) {
     if (direct_[i]) continue;
     const Bounds3& object = object_boxes[instances_[i].mesh];
@@ -262,9 +233,9 @@ TwoLevelAccelerator::TwoLevelAccelerator(const TriangleSoA& tris, const Instance
     } else {
       two_level::ShutterBounds b = two_level::shutter_bounds(geometry, instances_[i], object);
       boxes[i] = b.box;
-      interval_first_[i] = std::uint32_t(interval_boxes_.size());
-      interval_keys_[i] = std::uint32_t(b.intervals.size() + 1);
-      interval_boxes_.insert(interval_boxes_.end(), b.intervals.begin(), b.intervals.end());
+      piece_first_[i] = std::uint32_t(piece_boxes_.size());
+      piece_count_[i] = std::uint32_t(b.pieces.size());
+      piece_boxes_.insert(piece_boxes_.end(), b.pieces.begin(), b.pieces.end());
       beta = b.beta;
       linear_norm = b.linear_norm;
     }
@@ -280,7 +251,11 @@ TwoLevelAccelerator::TwoLevelAccelerator(const TriangleSoA& tris, const Instance
     if (!boxes[i].empty()) in_top.push_back(i);
   if (in_top.size() <= kFewTopInstances) {
     few_top_ = in_top;
-    for (std::uint32_t i : few_top_) few_top_boxes_.push_back(boxes[i]);
+    for (std::uint32_t i : few_top_) {
+      few_top_boxes_.push_back(boxes[i]);
+      few_piece_first_.push_back(piece_first_[i]);
+      few_piece_count_.push_back(piece_count_[i]);
+    }
   }
   build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
@@ -319,7 +294,14 @@ void TwoLevelAccelerator::intersect_top(const Ray& ray, Hit& best) const {
   if (top_.bounds().empty()) return;
   Ray clipped = ray;
   if (best.valid()) clipped.tfar = two_level::smaller(best.t, clipped.tfar);  // keeps a NaN tfar (Scan)
-  if (surely_misses_top(clipped)) return;
+  if (!few_top_.empty()) {  // each instance in turn, against its own box
+    TopRay tr;
+    unsigned met = few_met(clipped, tr);
+    if (tr.plan == TopPlan::Scan) met = (1u << few_top_.size()) - 1;
+    for (; met != 0; met &= met - 1) visit(few_top_[std::countr_zero(met)], ray, best);
+    return;
+  }
+  if (two_level::segment_misses(clipped, top_.bounds(), beta_, extent_)) return;
   const TopRay tr = setup_top_ray(clipped, top_.bounds(), beta_, extent_);
   if (tr.plan == TopPlan::Scan) {
     for (std::uint32_t i = 0; i < instances_.size(); ++i)
@@ -327,11 +309,6 @@ void TwoLevelAccelerator::intersect_top(const Ray& ray, Hit& best) const {
     return;
   }
   if (tr.plan == TopPlan::Miss) return;
-  if (!few_top_.empty()) {  // each instance in turn, against its own box
-    for (std::size_t j = 0; j < few_top_.size(); ++j)
-      if (meets_few(j, tr, ray.time)) visit(few_top_[j], ray, best);
-    return;
-  }
 
   Entry stack[kTopLevelStackSize];
   two_level::Mailbox mailbox;
@@ -359,7 +336,16 @@ bool TwoLevelAccelerator::occluded(const Ray& ray) const {
 }
 
 bool TwoLevelAccelerator::occluded_top(const Ray& ray) const {
-  if (top_.bounds().empty() || surely_misses_top(ray)) return false;
+  if (top_.bounds().empty()) return false;
+  if (!few_top_.empty()) {
+    TopRay tr;
+    unsigned met = few_met(ray, tr);
+    if (tr.plan == TopPlan::Scan) met = (1u << few_top_.size()) - 1;
+    for (; met != 0; met &= met - 1)
+      if (blocks(few_top_[std::countr_zero(met)], ray)) return true;
+    return false;
+  }
+  if (two_level::segment_misses(ray, top_.bounds(), beta_, extent_)) return false;
   const TopRay tr = setup_top_ray(ray, top_.bounds(), beta_, extent_);
   if (tr.plan == TopPlan::Scan) {
     for (std::uint32_t i = 0; i < instances_.size(); ++i)
@@ -367,11 +353,6 @@ bool TwoLevelAccelerator::occluded_top(const Ray& ray) const {
     return false;
   }
   if (tr.plan == TopPlan::Miss) return false;
-  if (!few_top_.empty()) {
-    for (std::size_t j = 0; j < few_top_.size(); ++j)
-      if (meets_few(j, tr, ray.time) && blocks(few_top_[j], ray)) return true;
-    return false;
-  }
 
   Entry stack[kTopLevelStackSize];
   two_level::Mailbox mailbox;
@@ -394,9 +375,10 @@ bool TwoLevelAccelerator::occluded_top(const Ray& ray) const {
 
 std::size_t TwoLevelAccelerator::memory_bytes() const {
   std::size_t bytes = top_.memory_bytes() + instances_.capacity() * sizeof(Instance) +
-                      (interval_first_.capacity() + interval_keys_.capacity()) * sizeof(std::uint32_t) +
-                      few_top_.capacity() * sizeof(std::uint32_t) + few_top_boxes_.capacity() * sizeof(Bounds3) +
-                      interval_boxes_.capacity() * sizeof(Bounds3) + direct_.capacity() +
+                      (piece_first_.capacity() + piece_count_.capacity()) * sizeof(std::uint32_t) +
+                      (few_top_.capacity() + few_piece_first_.capacity() + few_piece_count_.capacity()) * sizeof(std::uint32_t) +
+                      few_top_boxes_.capacity() * sizeof(Bounds3) +
+                      piece_boxes_.capacity() * sizeof(Bounds3) + direct_.capacity() +
                       direct_list_.capacity() * sizeof(std::uint32_t) +
                       mesh_first_.capacity() * sizeof(std::uint32_t) +
                       bottoms_.capacity() * sizeof(std::unique_ptr<Accelerator>);

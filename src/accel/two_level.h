@@ -37,6 +37,7 @@
 #include "accel/instances.h"
 #include "accel/kd_build.h"
 #include "accel/top_level_tree.h"
+#include "accel/two_level_motion.h"
 #include "simd/isa.h"
 
 namespace lancer {
@@ -81,17 +82,20 @@ class TwoLevelAccelerator final : public Accelerator {
   std::string_view bottom_name() const { return bottom_name_; }
   double build_ms() const { return build_ms_; }
 
+  // A top level of at most this many instances is met one by one (see "Few instances").
+  static constexpr std::size_t kFewTopInstances = 8;
+  static_assert(kFewTopInstances <= 32, "few_met keeps one bit per instance in an unsigned");
+
  private:
   // The packet's top-level rays (two_level_packet.cpp).
   void setup_packet(const Ray* rays, const Hit* hits, std::uint64_t skip, int count, two_level::PacketSetup& p) const;
   void intersect_packet64(const Ray* rays, Hit* hits, int count) const;
-  int gather_lanes(std::uint32_t i, std::uint64_t lanes, const Ray* rays, const two_level::PacketSetup& p,
-                   const Hit* hits, Ray* local, int* lane_of) const;
-  void enter_packet(std::uint32_t i, std::uint64_t lanes, const Ray* rays, const two_level::PacketSetup& p,
-                    Hit* hits) const;
-  std::uint64_t block_packet(std::uint32_t i, std::uint64_t lanes, const Ray* rays,
+  std::uint64_t moving_lanes(std::uint32_t i, std::uint64_t lanes, const Ray* rays,
                              const two_level::PacketSetup& p) const;
-  std::uint64_t lanes_meeting_few(std::size_t j, std::uint64_t lanes, const two_level::PacketSetup& p) const;
+  int gather_lanes(std::uint32_t i, std::uint64_t lanes, const Ray* rays, const Hit* hits, Ray* local,
+                   int* lane_of) const;
+  void enter_packet(std::uint32_t i, std::uint64_t lanes, const Ray* rays, Hit* hits) const;
+  std::uint64_t block_packet(std::uint32_t i, std::uint64_t lanes, const Ray* rays) const;
   void occluded_packet64(const Ray* rays, bool* occluded, int count) const;
   // Enters instance i with the tie rule above, updating `best`.
   void visit(std::uint32_t i, const Ray& ray, Hit& best) const;
@@ -113,44 +117,46 @@ class TwoLevelAccelerator final : public Accelerator {
 
   // Few instances (at most kFewTopInstances in the top level): a ray, or a packet's lanes
   // whatever their directions, meets each in ascending order after a test against its
-  // box (fat_ray_meets_box) instead of walking the top level's tree; the same answers by
-  // the tie rule, and the same argument for skipping an instance whose box the fat ray
-  // misses.
+  // box instead of walking the top level's tree; the same answers by the tie rule.
   //
-  // True only if no instance of the top level can hold a hit of the ray (segment_misses,
-  // two_level_ray.h): against the top level's box, or, when the top level has at most
-  // kFewTopInstances instances, against each one's box (a moving one's over the key
-  // interval of the ray's time), which rejects far more rays for about the same cost.
-  bool surely_misses_top(const Ray& clipped) const;
-  // Moving instance i's box over the key interval holding `time`.
-  const Bounds3& interval_box(std::uint32_t i, float time) const {
-    return interval_boxes_[interval_first_[i] + key_time(interval_keys_[i], time).interval];
+  // The few_top_ entries the ray may meet, bit j for few_top_[j], and the ray set up in
+  // `tr` (its plan Scan when every instance must be scanned). First its segment box
+  // (two_level_ray.h) against each instance's box (a moving one's over the piece of the
+  // shutter holding the ray's time), which needs no division; then, only for the boxes it
+  // meets, the fat ray's clip (fat_ray_meets_box), which rejects far more of a long ray's.
+  unsigned few_met(const Ray& clipped, two_level::TopRay& tr) const;
+  // few_top_[j]'s box at `time`.
+  const Bounds3& few_box(std::size_t j, float time) const {
+    return few_piece_count_[j] == 0 ? few_top_boxes_[j]
+                                    : piece_boxes_[few_piece_first_[j] + two_level::piece_of(few_piece_count_[j], time)];
   }
-  // Whether the fat ray can meet moving instance i at `time`: the box of i over the key
-  // interval holding `time` (a small part of its box over the shutter), tested before the
-  // interpolation at_time costs.
+  // Moving instance i's box over the piece of the shutter holding `time`
+  // (ShutterBounds::pieces).
+  const Bounds3& piece_box(std::uint32_t i, float time) const {
+    return piece_boxes_[piece_first_[i] + two_level::piece_of(piece_count_[i], time)];
+  }
+  // Whether the fat ray can meet moving instance i at `time`: the box of i over the piece
+  // of the shutter holding `time` (a small part of its box over the shutter), tested
+  // before the interpolation at_time costs.
   bool meets_moving(std::uint32_t i, const two_level::TopRay& tr, float time) const;
-  // Whether the fat ray can meet few_top_[j] at `time` (its box, or meets_moving).
-  bool meets_few(std::size_t j, const two_level::TopRay& tr, float time) const;
-  // Moving instance i as a ray at `time` meets it (PreparedMotions::at, memoised per
-  // thread: see two_level.cpp). The reference is good until this thread's next call.
-  const Instance& at_time(std::uint32_t i, float time) const;
+  // Moving instance i as a ray at `time` meets it (PreparedMotions::moving_at, memoised
+  // per thread). The reference is good until this thread's next interpolation.
+  const Instance& at_time(std::uint32_t i, float time) const { return motions_.moving_at(instances_[i], time); }
 
   std::vector<Instance> instances_;
-  std::uint64_t id_ = 0;     // unique per accelerator: the key of its at_time memo entries
   PreparedMotions motions_;  // instance_at's bits, with each span's slerp angle computed once
   std::vector<std::uint32_t> mesh_first_;             // per mesh, its first triangle
   std::vector<std::unique_ptr<Accelerator>> bottoms_;  // per mesh, null when no instance draws it
   std::vector<std::unique_ptr<TriangleSoA>> kept_;     // per mesh, the copy a BruteForce bottom refers to
   std::vector<char> direct_;                // per instance: entered before the top level
   std::vector<std::uint32_t> direct_list_;  // the direct instances, ascending
-  static constexpr std::size_t kFewTopInstances = 8;
   std::vector<std::uint32_t> few_top_;  // the top level's instances when at most kFewTopInstances, else empty
   std::vector<Bounds3> few_top_boxes_;  // their widened world boxes (used for those that do not move)
-  // Per moving instance, the index of its first key interval's box (ShutterBounds::intervals).
-  std::vector<std::uint32_t> interval_first_;
-  std::vector<std::uint32_t> interval_keys_;  // per moving instance, its key count
-  std::vector<Bounds3> interval_boxes_;
+  std::vector<std::uint32_t> few_piece_first_, few_piece_count_;  // their pieces' (count 0: static)
+  // Per moving instance, the index of its first piece's box (ShutterBounds::pieces).
+  std::vector<std::uint32_t> piece_first_;
+  std::vector<std::uint32_t> piece_count_;  // per moving instance, its piece count
+  std::vector<Bounds3> piece_boxes_;
   TopLevelTree top_;
   double beta_ = 0.0;    // the fat ray's radius per unit of |org| (two_level_ray.h)
   double extent_ = 0.0;  // the largest mesh extent times its to_world norm (two_level_ray.h)

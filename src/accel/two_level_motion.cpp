@@ -190,22 +190,25 @@ ShutterBounds shutter_bounds(const InstancedGeometry& geometry, const Instance& 
   const double samples = double(kSamplesPerKey) * double(intervals);
   const double h = 1.0 / kSamplesPerKey + double(intervals) * 0x1p-22;  // float times are a little uneven
   glm::dvec3 lo(kInfinity), hi(-kInfinity);
-  std::vector<glm::dvec3> interval_lo(intervals, glm::dvec3(kInfinity)), interval_hi(intervals, glm::dvec3(-kInfinity));
+  // Per sample m (time float(m / samples)), the box of the corners then.
+  const std::size_t sample_count = std::size_t(kSamplesPerKey) * intervals + 1;
+  std::vector<glm::dvec3> sample_lo(sample_count, glm::dvec3(kInfinity)), sample_hi(sample_count, glm::dvec3(-kInfinity));
   double stray = 0.0;
   for (std::size_t i = 0; i < intervals; ++i) {
     for (int j = 0; j <= kSamplesPerKey; ++j) {
-      const float time = float(double(i * kSamplesPerKey + j) / samples);
+      const std::size_t m = i * kSamplesPerKey + std::size_t(j);
+      const float time = float(double(m) / samples);
       const Instance at = instance_at(geometry, inst, time);
-      const glm::dmat3 m(at.to_world.linear);
+      const glm::dmat3 mat(at.to_world.linear);
       const glm::dvec3 b(at.to_world.offset);
       for (const glm::dvec3& p : corners) {
-        const glm::dvec3 w = m * p + b;
-        interval_lo[i] = glm::min(interval_lo[i], w);
-        interval_hi[i] = glm::max(interval_hi[i], w);
+        const glm::dvec3 w = mat * p + b;
+        sample_lo[m] = glm::min(sample_lo[m], w);
+        sample_hi[m] = glm::max(sample_hi[m], w);
       }
+      lo = glm::min(lo, sample_lo[m]);
+      hi = glm::max(hi, sample_hi[m]);
     }
-    lo = glm::min(lo, interval_lo[i]);
-    hi = glm::max(hi, interval_hi[i]);
     const glm::dquat qa(keys[i].rotation), qb(keys[i + 1].rotation);
     const double cos_half = std::fabs(glm::dot(qa, qb)) / std::sqrt(glm::dot(qa, qa) * glm::dot(qb, qb));
     const double theta = 2.0 * std::acos(std::fmin(1.0, cos_half));
@@ -231,14 +234,25 @@ ShutterBounds shutter_bounds(const InstancedGeometry& geometry, const Instance& 
   for (int a = 0; a < 3; ++a)
     if (!std::isfinite(out.box.lo[a]) || !std::isfinite(out.box.hi[a]))
       throw std::invalid_argument("two-level: a moving instance's world bounds overflow float");
-  // Each interval's box: its own 17 samples (the keys at both ends included), widened by
-  // the same margins, which are maxima over the intervals (the stray and kink of any
-  // interval, alpha of the whole box), so each holds its interval as the whole box holds
-  // the shutter; never beyond the whole box.
-  out.intervals.resize(intervals);
-  for (std::size_t i = 0; i < intervals; ++i) {
-    out.intervals[i].lo = glm::max(glm::vec3(interval_lo[i] - path - margin), out.box.lo);
-    out.intervals[i].hi = glm::min(glm::vec3(interval_hi[i] + path + margin), out.box.hi);
+  // Each piece's box: the samples from its start to its end, widened by the same margins,
+  // which are maxima over the sub-intervals between samples (the stray and kink of any, alpha
+  // of the whole box), so each holds its piece as the whole box holds the shutter; never
+  // beyond the whole box. Why the piece piece_of names holds a time t: with P pieces of
+  // `step` samples each, p = floor(t P) gives p step <= t samples < (p + 1) step exactly, and
+  // rounding to float is monotone, so t lies between the piece's first and last sample
+  // times (float(m / samples), as sampled above).
+  std::size_t per_interval = kSamplesPerKey;
+  while (per_interval > 1 && intervals * per_interval > kMaxShutterPieces) per_interval /= 2;
+  const std::size_t step = kSamplesPerKey / per_interval;
+  out.pieces.resize(intervals * per_interval);
+  for (std::size_t p = 0; p < out.pieces.size(); ++p) {
+    glm::dvec3 piece_lo(kInfinity), piece_hi(-kInfinity);
+    for (std::size_t m = p * step; m <= (p + 1) * step; ++m) {
+      piece_lo = glm::min(piece_lo, sample_lo[m]);
+      piece_hi = glm::max(piece_hi, sample_hi[m]);
+    }
+    out.pieces[p].lo = glm::max(glm::vec3(piece_lo - path - margin), out.box.lo);
+    out.pieces[p].hi = glm::min(glm::vec3(piece_hi + path + margin), out.box.hi);
   }
   return out;
 }

@@ -4,6 +4,9 @@
 // the top level's error argument (two_level_ray.h) hold for every time at once.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
 #include <vector>
 
 #include "accel/instances.h"
@@ -24,12 +27,24 @@ void validate_motions(const InstancedGeometry& geometry);
 // to_world.linear at any time (for the bottom trees' slack).
 struct ShutterBounds {
   Bounds3 box;
-  // Per key interval (key_time's), the box over that interval alone, widened alike: a ray
-  // whose time falls in interval k can only hit the instance inside intervals[k].
-  std::vector<Bounds3> intervals;
+  // The shutter cut into equal parts of [0, 1], each part's box widened alike: a ray whose
+  // time falls in piece_of(pieces.size(), time) can only hit the instance inside it. Each
+  // key interval is cut into the same number of parts, 16 at most, and halved until the
+  // total is at most kMaxShutterPieces or each interval is one part.
+  std::vector<Bounds3> pieces;
   double beta = 0.0;
   double linear_norm = 0.0;
 };
+
+inline constexpr std::size_t kMaxShutterPieces = 64;
+
+// The piece of a shutter cut into `count` equal parts that holds `time` (clamped to [0, 1],
+// NaN as 0, as instance_at clamps it).
+inline std::size_t piece_of(std::size_t count, float time) {
+  const double t = std::clamp(std::isnan(time) ? 0.0 : double(time), 0.0, 1.0);
+  // Exact: t has 24 significant bits and count is small.
+  return std::min(std::size_t(int(t * double(count))), count - 1);
+}
 
 // `inst` moves (inst.motion indexes geometry.motions, validated); `object` is its mesh's
 // box. Throws std::invalid_argument when the box overflows float.

@@ -40,29 +40,33 @@ struct PacketSetup {
   TopRay rays[kPacket];
   std::uint64_t active = 0;
   std::uint64_t scan = 0;  // lanes for the single-ray path
+  // Few instances: per few_top_ entry, the lanes that may meet it (the others skip it).
+  std::uint64_t few[TwoLevelAccelerator::kFewTopInstances] = {};
   bool negative[3] = {false, false, false};
   bool coherent = true;
 };
 }  // namespace two_level
 
 // Lanes in `skip` stay out (Miss); a lane with a hit in `hits` (when given) is clipped to
-// it, as intersect_top clips a single ray; surely_misses_top answers for most lanes whose
-// range is finite.
+// it, as intersect_top clips a single ray. Most lanes with a finite range are settled by
+// their segment box (two_level_ray.h) without the division of setup_top_ray: against the
+// top level's box, or with few instances against each one's (few_met).
 void TwoLevelAccelerator::setup_packet(const Ray* rays, const Hit* hits, std::uint64_t skip, int count,
                                        two_level::PacketSetup& p) const {
+  const bool few = !few_top_.empty();
   bool pos[3] = {false, false, false}, neg[3] = {false, false, false};
   for (int k = 0; k < count; ++k) {
     const std::uint64_t bit = std::uint64_t(1) << k;
-    if (skip & bit) {
-      p.rays[k].plan = TopPlan::Miss;
-      continue;
-    }
+    p.rays[k].plan = TopPlan::Miss;
+    if (skip & bit) continue;
     Ray clipped = rays[k];
     if (hits && hits[k].valid()) clipped.tfar = two_level::smaller(hits[k].t, clipped.tfar);  // keeps a NaN (Scan)
-    if (surely_misses_top(clipped)) {
-      p.rays[k].plan = TopPlan::Miss;
-      continue;
+    if (few) {
+      for (unsigned met = few_met(clipped, p.rays[k]); met != 0; met &= met - 1) p.few[std::countr_zero(met)] |= bit;
+      if (p.rays[k].plan == TopPlan::Scan) p.scan |= bit;
+      continue;  // few lanes need no common direction
     }
+    if (two_level::segment_misses(clipped, top_.bounds(), beta_, extent_)) continue;
     setup_top_ray(clipped, top_.bounds(), beta_, extent_, p.rays[k]);
     if (p.rays[k].plan == TopPlan::Scan) p.scan |= bit;
     if (p.rays[k].plan != TopPlan::Traverse) continue;
@@ -173,8 +177,7 @@ void TwoLevelAccelerator::intersect_packet64(const Ray* rays, Hit* hits, int cou
   const std::uint64_t single = p.coherent || few ? p.scan : (p.scan | p.active);
   for (std::uint64_t m = single; m != 0; m &= m - 1) intersect_top(rays[std::countr_zero(m)], hits[std::countr_zero(m)]);
   if (few) {
-    for (std::size_t j = 0; j < few_top_.size(); ++j)
-      enter_packet(few_top_[j], lanes_meeting_few(j, p.active, p), rays, p, hits);
+    for (std::size_t j = 0; j < few_top_.size(); ++j) enter_packet(few_top_[j], p.few[j], rays, hits);
     return;
   }
   if (!p.coherent || p.active == 0) return;
@@ -210,23 +213,34 @@ void TwoLevelAccelerator::intersect_packet64(const Ray* rays, Hit* hits, int cou
     const KdNode leaf = nodes[node];
     for (std::uint32_t j = 0; j < leaf.count(); ++j) {
       const std::uint32_t i = items[leaf.first_slot() + j];
-      enter_packet(i, mailbox.enter(i, mask), rays, p, hits);
+      enter_packet(i, moving_lanes(i, mailbox.enter(i, mask), rays, p), rays, hits);
     }
   }
 }
 
-// The lanes of `lanes` that may meet instance i (a moving one: those meeting its box over
-// their time's key interval), moved into its space as local[0..n), tfar narrowed by the tie
-// rule against `hits` when given; lane_of maps them back. Returns n.
-int TwoLevelAccelerator::gather_lanes(std::uint32_t i, std::uint64_t lanes, const Ray* rays,
-                                      const two_level::PacketSetup& p, const Hit* hits, Ray* local,
-                                      int* lane_of) const {
-  const bool moves = instances_[i].motion != kNoHit;
+// The lanes of `lanes` that may meet instance i: for a moving one, those whose fat ray
+// meets its box over the piece of the shutter holding their time (meets_moving); all of
+// them for another.
+std::uint64_t TwoLevelAccelerator::moving_lanes(std::uint32_t i, std::uint64_t lanes, const Ray* rays,
+                                                const two_level::PacketSetup& p) const {
+  if (instances_[i].motion == kNoHit) return lanes;
+  std::uint64_t out = 0;
+  for (std::uint64_t m = lanes; m != 0; m &= m - 1) {
+    const int k = std::countr_zero(m);
+    if (meets_moving(i, p.rays[k], rays[k].time)) out |= std::uint64_t(1) << k;
+  }
+  return out;
+}
+
+// The lanes of `lanes`, moved into instance i's space (each at its own time) as
+// local[0..n), tfar narrowed by the tie rule against `hits` when given; lane_of maps them
+// back. Returns n.
+int TwoLevelAccelerator::gather_lanes(std::uint32_t i, std::uint64_t lanes, const Ray* rays, const Hit* hits,
+                                      Ray* local, int* lane_of) const {
   const Hit none;
   int n = 0;
   for (std::uint64_t m = lanes; m != 0; m &= m - 1) {
     const int k = std::countr_zero(m);
-    if (moves && !meets_moving(i, p.rays[k], rays[k].time)) continue;
     local[n] = entered(i, rays[k], hits ? hits[k] : none);
     lane_of[n++] = k;
   }
@@ -234,14 +248,13 @@ int TwoLevelAccelerator::gather_lanes(std::uint32_t i, std::uint64_t lanes, cons
 }
 
 // The lanes of `lanes` enter instance i as one packet (gather_lanes).
-void TwoLevelAccelerator::enter_packet(std::uint32_t i, std::uint64_t lanes, const Ray* rays,
-                                       const two_level::PacketSetup& p, Hit* hits) const {
+void TwoLevelAccelerator::enter_packet(std::uint32_t i, std::uint64_t lanes, const Ray* rays, Hit* hits) const {
+  if (lanes == 0) return;
   const Instance& inst = instances_[i];
   Ray local[kPacket];
   Hit local_hits[kPacket];
   int lane_of[kPacket];
-  const int n = gather_lanes(i, lanes, rays, p, hits, local, lane_of);
-  if (n == 0) return;
+  const int n = gather_lanes(i, lanes, rays, hits, local, lane_of);
   bottoms_[inst.mesh]->intersect_packet(local, local_hits, n);
   for (int q = 0; q < n; ++q) {
     if (!local_hits[q].valid()) continue;
@@ -253,32 +266,18 @@ void TwoLevelAccelerator::enter_packet(std::uint32_t i, std::uint64_t lanes, con
 }
 
 // The lanes of `lanes` that instance i blocks (tested as enter_packet enters them).
-std::uint64_t TwoLevelAccelerator::block_packet(std::uint32_t i, std::uint64_t lanes, const Ray* rays,
-                                                const two_level::PacketSetup& p) const {
+std::uint64_t TwoLevelAccelerator::block_packet(std::uint32_t i, std::uint64_t lanes, const Ray* rays) const {
+  std::uint64_t blocked = 0;
+  if (lanes == 0) return blocked;
   const Instance& inst = instances_[i];
   Ray local[kPacket];
   bool local_blocked[kPacket];
   int lane_of[kPacket];
-  const int n = gather_lanes(i, lanes, rays, p, nullptr, local, lane_of);
-  std::uint64_t blocked = 0;
-  if (n == 0) return blocked;
+  const int n = gather_lanes(i, lanes, rays, nullptr, local, lane_of);
   bottoms_[inst.mesh]->occluded_packet(local, local_blocked, n);
   for (int q = 0; q < n; ++q)
     if (local_blocked[q]) blocked |= std::uint64_t(1) << lane_of[q];
   return blocked;
-}
-
-// The lanes of `lanes` that can meet few_top_[j]'s box (a static instance's; a moving
-// one's box is tested per lane and time when it is entered).
-std::uint64_t TwoLevelAccelerator::lanes_meeting_few(std::size_t j, std::uint64_t lanes,
-                                                     const two_level::PacketSetup& p) const {
-  if (instances_[few_top_[j]].motion != kNoHit) return lanes;
-  std::uint64_t out = 0;
-  for (std::uint64_t m = lanes; m != 0; m &= m - 1) {
-    const int k = std::countr_zero(m);
-    if (fat_ray_meets_box(p.rays[k], few_top_boxes_[j])) out |= std::uint64_t(1) << k;
-  }
-  return out;
 }
 
 void TwoLevelAccelerator::occluded_packet64(const Ray* rays, bool* occluded, int count) const {
@@ -301,9 +300,9 @@ void TwoLevelAccelerator::occluded_packet64(const Ray* rays, bool* occluded, int
   for (std::uint64_t m = single; m != 0; m &= m - 1)
     occluded[std::countr_zero(m)] = occluded_top(rays[std::countr_zero(m)]);
   if (few) {
-    std::uint64_t open = p.active;
-    for (std::size_t j = 0; j < few_top_.size() && open != 0; ++j) {
-      const std::uint64_t blocked = block_packet(few_top_[j], lanes_meeting_few(j, open, p), rays, p);
+    std::uint64_t open = ~std::uint64_t(0);
+    for (std::size_t j = 0; j < few_top_.size(); ++j) {
+      const std::uint64_t blocked = block_packet(few_top_[j], p.few[j] & open, rays);
       for (std::uint64_t m = blocked; m != 0; m &= m - 1) occluded[std::countr_zero(m)] = true;
       open &= ~blocked;
     }
@@ -340,7 +339,7 @@ void TwoLevelAccelerator::occluded_packet64(const Ray* rays, bool* occluded, int
     const KdNode leaf = nodes[node];
     for (std::uint32_t j = 0; j < leaf.count() && mask != 0; ++j) {
       const std::uint32_t i = items[leaf.first_slot() + j];
-      const std::uint64_t blocked = block_packet(i, mailbox.enter(i, mask), rays, p);
+      const std::uint64_t blocked = block_packet(i, moving_lanes(i, mailbox.enter(i, mask), rays, p), rays);
       for (std::uint64_t m = blocked; m != 0; m &= m - 1) occluded[std::countr_zero(m)] = true;
       mask &= ~blocked;
       open &= ~blocked;

@@ -3,6 +3,7 @@
 // meets the definition (every instance scanned at the ray's time) on every ISA; packets
 // whose lanes have different times match single rays; bad motions are refused; and
 // instance_at itself.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -14,6 +15,7 @@
 #include <gtest/gtest.h>
 
 #include "accel/two_level.h"
+#include "accel/two_level_motion.h"
 #include "two_level_motion_test_support.h"
 
 namespace lancer::test {
@@ -150,6 +152,57 @@ TEST_P(TwoLevelMotion, SweepingCornersStayInsideTheBoxes) {
     }
   }
   EXPECT_GT(hits, rays * 9 / 10);
+}
+
+// Each piece of a moving instance's shutter (ShutterBounds::pieces) holds the mesh at
+// every time piece_of assigns to it: the mesh box's corners through instance_at at each
+// piece boundary and one float step either side of it, and at random times, for every
+// moving instance of the random scene (far travel, half turns, mirrors, squashing). And the
+// pieces cull: for the instance that travels far, each is a small part of the whole box.
+TEST(ShutterPieces, HoldTheMeshAtEveryTimeOfTheirPiece) {
+  const InstancedScene s = random_moving_scene(41);
+  TestRng rng(42);
+  std::size_t moving = 0;
+  for (std::size_t i = 0; i < s.geometry.instances.size(); ++i) {
+    const Instance& inst = s.geometry.instances[i];
+    if (inst.motion == kNoHit) continue;
+    ++moving;
+    const MeshRange& r = s.geometry.meshes[inst.mesh];
+    Bounds3 object;
+    for (std::uint32_t k = 0; k < r.count; ++k) object.extend(s.tris.triangle_bounds(r.first + k));
+    const two_level::ShutterBounds b = two_level::shutter_bounds(s.geometry, inst, object);
+    const std::size_t pieces = b.pieces.size();
+    const std::size_t intervals = s.geometry.motions[inst.motion].keys.size() - 1;
+    ASSERT_EQ(pieces % intervals, 0u) << "instance " << i;
+    ASSERT_LE(pieces, std::max(two_level::kMaxShutterPieces, intervals)) << "instance " << i;
+    std::vector<float> times;
+    for (std::size_t p = 0; p <= pieces; ++p) {
+      const float t = float(double(p) / double(pieces));
+      for (float u : {std::nextafter(t, -1.0f), t, std::nextafter(t, 2.0f)})
+        if (u >= 0.0f && u <= 1.0f) times.push_back(u);
+    }
+    while (times.size() < 3 * pieces + 400) times.push_back(rng.uniform());
+    for (float t : times) {
+      const std::size_t p = two_level::piece_of(pieces, t);
+      const Bounds3& box = b.pieces[p];
+      const Instance at = instance_at(s.geometry, inst, t);
+      for (int c = 0; c < 8; ++c) {
+        const glm::vec3 corner((c & 1 ? object.hi : object.lo).x, (c & 2 ? object.hi : object.lo).y,
+                               (c & 4 ? object.hi : object.lo).z);
+        const glm::vec3 w = at.to_world.point(corner);
+        for (int a = 0; a < 3; ++a)
+          ASSERT_TRUE(w[a] >= box.lo[a] && w[a] <= box.hi[a])
+              << "instance " << i << " at " << t << " (piece " << p << " of " << pieces << "), corner " << c << " axis "
+              << a << ": " << w[a] << " outside [" << box.lo[a] << ", " << box.hi[a] << "]";
+      }
+    }
+    if (i == 1) {  // travels about 70 units over two keys
+      double piece_extent = 0.0;
+      for (const Bounds3& piece : b.pieces) piece_extent += glm::length(piece.extent());
+      EXPECT_LT(piece_extent / double(pieces), 0.25 * glm::length(b.box.extent()));
+    }
+  }
+  EXPECT_GE(moving, 6u);
 }
 
 // (c) Packets match single rays bit for bit when lanes have different times: every lane
@@ -366,7 +419,11 @@ TEST(InstanceAt, PreparedMotionsGiveInstanceAtsBits) {
   while (times.size() < 200) times.push_back(rng.uniform());
   for (std::size_t m = 0; m < moving.size(); ++m)
     for (float t : times) {
-      const Instance a = prepared.at(moving[m], t), b = instance_at(g, moving[m], t);
+      // Each computed afresh: the per-thread memo would otherwise answer the second call.
+      forget_moved_instances();
+      const Instance a = prepared.at(moving[m], t);
+      forget_moved_instances();
+      const Instance b = instance_at(g, moving[m], t);
       ASSERT_TRUE(same_transforms(a, b)) << "motion " << m << " at " << t;
       ASSERT_EQ(a.motion, b.motion);
       // to_object inverts to_world (the rigid span's stretch^-1 rotation^T included).
@@ -375,9 +432,43 @@ TEST(InstanceAt, PreparedMotionsGiveInstanceAtsBits) {
     }
 }
 
+// The per-thread memo of interpolated transforms: a remembered answer has the bits of a
+// fresh computation, and motions that differ only in one key, or only in their mesh or
+// motion index, each get their own at the same time, called in turn from one thread.
+TEST(InstanceAt, MemoAnswersAsAFreshComputation) {
+  TestRng rng(23);
+  InstancedGeometry g, h;
+  const std::vector<MotionKey> keys = {make_key({1, 2, 3}, about(rng.direction(), 33)),
+                                       make_key({-4, 0, 5}, about(rng.direction(), 120)),
+                                       make_key({2, -6, 1}, about(rng.direction(), 70))};
+  std::vector<MotionKey> other = keys;
+  other[1].translation.y += 0.5f;  // the inner key: every time but 0 and 1 differs
+  const Instance a = moving_instance(g, keys);
+  const Instance b = moving_instance(h, other);
+  Instance a_mesh = a;
+  a_mesh.mesh = 1;
+  std::vector<float> times = {0.0f, 0.25f, 0.5f, 0.75f, 1.0f};
+  while (times.size() < 60) times.push_back(rng.uniform());
+  std::size_t differ = 0;
+  for (float t : times) {
+    forget_moved_instances();
+    const Instance fresh_a = instance_at(g, a, t);
+    forget_moved_instances();
+    const Instance fresh_b = instance_at(h, b, t);
+    for (int round = 0; round < 2; ++round) {  // the second round answers from the memo
+      ASSERT_TRUE(same_transforms(instance_at(g, a, t), fresh_a)) << "at " << t;
+      ASSERT_TRUE(same_transforms(instance_at(h, b, t), fresh_b)) << "at " << t;
+      ASSERT_EQ(instance_at(g, a_mesh, t).mesh, 1u);
+      ASSERT_EQ(instance_at(g, a, t).mesh, a.mesh);
+    }
+    differ += same_transforms(fresh_a, fresh_b) ? 0 : 1;
+  }
+  EXPECT_GT(differ, 20u) << "the two motions should differ over the second span";
+}
+
 // Two accelerators over the same instances moving differently, queried in turn at the same
 // times from one thread: each answers by its own motions (the per-thread memo of moved
-// transforms is keyed by accelerator).
+// transforms is keyed by the keys themselves).
 TEST_P(TwoLevelMotion, AcceleratorsKeepTheirOwnMovedTransforms) {
   const InstancedScene a = random_moving_scene(isa_seed() + 701);
   InstancedScene b = a;

@@ -84,7 +84,7 @@ class TwoLevelAccelerator final : public Accelerator {
 
   // A top level of at most this many instances is met one by one (see "Few instances").
   static constexpr std::size_t kFewTopInstances = 8;
-  static_assert(kFewTopInstances <= 32, "few_met keeps one bit per instance in an unsigned");
+  static_assert(kFewTopInstances < 32, "few_met keeps one bit per instance in an unsigned, and shifts 1u by the count");
 
  private:
   // The packet's top-level rays (two_level_packet.cpp).

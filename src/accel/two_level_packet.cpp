@@ -33,7 +33,8 @@ constexpr int kPacket = 64;
 
 }  // namespace
 
-// The packet's top-level rays. `active` holds the lanes that traverse; `coherent` is false
+// The packet's top-level rays. `active` holds the lanes that traverse the top level's tree
+// (none with few instances, where `few` holds each instance's lanes); `coherent` is false
 // when two of them point opposite ways on some axis (rays parallel to it agree with both).
 namespace two_level {
 struct PacketSetup {

@@ -433,8 +433,10 @@ TEST(InstanceAt, PreparedMotionsGiveInstanceAtsBits) {
 }
 
 // The per-thread memo of interpolated transforms: a remembered answer has the bits of a
-// fresh computation, and motions that differ only in one key, or only in their mesh or
-// motion index, each get their own at the same time, called in turn from one thread.
+// fresh computation (each asked twice in a row, the second from the memo); motions that
+// differ only in one key get their own at the same time, called in turn from one thread;
+// and an instance of another mesh or motion index with the same keys gets its own mesh and
+// motion index back.
 TEST(InstanceAt, MemoAnswersAsAFreshComputation) {
   TestRng rng(23);
   InstancedGeometry g, h;
@@ -445,8 +447,10 @@ TEST(InstanceAt, MemoAnswersAsAFreshComputation) {
   other[1].translation.y += 0.5f;  // the inner key: every time but 0 and 1 differs
   const Instance a = moving_instance(g, keys);
   const Instance b = moving_instance(h, other);
-  Instance a_mesh = a;
-  a_mesh.mesh = 1;
+  // Motion 1 of g has a's keys; drawn with mesh 1.
+  Instance twin = moving_instance(g, keys);
+  twin.mesh = 1;
+  ASSERT_EQ(twin.motion, 1u);
   std::vector<float> times = {0.0f, 0.25f, 0.5f, 0.75f, 1.0f};
   while (times.size() < 60) times.push_back(rng.uniform());
   std::size_t differ = 0;
@@ -455,15 +459,23 @@ TEST(InstanceAt, MemoAnswersAsAFreshComputation) {
     const Instance fresh_a = instance_at(g, a, t);
     forget_moved_instances();
     const Instance fresh_b = instance_at(h, b, t);
-    for (int round = 0; round < 2; ++round) {  // the second round answers from the memo
+    forget_moved_instances();
+    for (int round = 0; round < 2; ++round) {
       ASSERT_TRUE(same_transforms(instance_at(g, a, t), fresh_a)) << "at " << t;
+      ASSERT_TRUE(same_transforms(instance_at(g, a, t), fresh_a)) << "at " << t << ", from the memo";
       ASSERT_TRUE(same_transforms(instance_at(h, b, t), fresh_b)) << "at " << t;
-      ASSERT_EQ(instance_at(g, a_mesh, t).mesh, 1u);
-      ASSERT_EQ(instance_at(g, a, t).mesh, a.mesh);
+      ASSERT_TRUE(same_transforms(instance_at(h, b, t), fresh_b)) << "at " << t << ", from the memo";
+      const Instance t_twin = instance_at(g, twin, t);
+      ASSERT_EQ(t_twin.mesh, 1u);
+      ASSERT_EQ(t_twin.motion, 1u);
+      ASSERT_TRUE(same_transforms(t_twin, fresh_a)) << "the same keys give the same transforms";
+      const Instance t_a = instance_at(g, a, t);
+      ASSERT_EQ(t_a.mesh, a.mesh);
+      ASSERT_EQ(t_a.motion, a.motion);
     }
     differ += same_transforms(fresh_a, fresh_b) ? 0 : 1;
   }
-  EXPECT_GT(differ, 20u) << "the two motions should differ over the second span";
+  EXPECT_GT(differ, 20u) << "the two motions should differ over the inner key's spans";
 }
 
 // Two accelerators over the same instances moving differently, queried in turn at the same

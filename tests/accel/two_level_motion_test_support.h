@@ -119,7 +119,7 @@ class MotionScan {
     Hit best;
     for (std::uint32_t i = 0; i < geometry_.instances.size(); ++i) {
       const Instance& inst = geometry_.instances[i];
-      Hit h = oracles_[inst.mesh]->intersect(ray_to_object(instance_at(geometry_, inst, ray.time), ray));
+      Hit h = oracles_[inst.mesh]->intersect(ray_to_object(fresh_instance_at(inst, ray.time), ray));
       if (!h.valid() || !(h.t < best.t || (h.t == best.t && i < best.instance))) continue;
       h.prim += geometry_.meshes[inst.mesh].first;
       h.instance = i;
@@ -130,11 +130,19 @@ class MotionScan {
 
   bool occluded(const Ray& ray) const {
     for (const Instance& inst : geometry_.instances)
-      if (oracles_[inst.mesh]->occluded(ray_to_object(instance_at(geometry_, inst, ray.time), ray))) return true;
+      if (oracles_[inst.mesh]->occluded(ray_to_object(fresh_instance_at(inst, ray.time), ray))) return true;
     return false;
   }
 
  private:
+  // instance_at computed afresh, not taken from the per-thread memo the accelerator also
+  // uses: the definition stays independent of it.
+  Instance fresh_instance_at(const Instance& inst, float time) const {
+    if (inst.motion == kNoHit) return inst;
+    forget_moved_instances();
+    return instance_at(geometry_, inst, time);
+  }
+
   InstancedGeometry geometry_;
   std::vector<std::unique_ptr<TriangleSoA>> meshes_;
   std::vector<std::unique_ptr<BruteForce>> oracles_;

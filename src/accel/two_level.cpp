@@ -163,7 +163,9 @@ unsigned TwoLevelAccelerator::few_met(const Ray& clipped, TopRay& tr) const {
     }
   }
   setup_top_ray(clipped, top_.bounds(), beta_, extent_, tr);
-  if (tr.plan != TopPlan::Traverse) return 0;
+  // A ray beyond the top level's error argument (two_level_ray.h) meets every instance.
+  if (tr.plan == TopPlan::Scan) return (1u << few_top_.size()) - 1;
+  if (tr.plan == TopPlan::Miss) return 0;
   for (unsigned m = met; m != 0; m &= m - 1)
     if (!fat_ray_meets_box(tr, *box[std::countr_zero(m)])) met &= ~(1u << std::countr_zero(m));
   return met;
@@ -251,11 +253,7 @@ TwoLevelAccelerator::TwoLevelAccelerator(const TriangleSoA& tris, const Instance
     if (!boxes[i].empty()) in_top.push_back(i);
   if (in_top.size() <= kFewTopInstances) {
     few_top_ = in_top;
-    for (std::uint32_t i : few_top_) {
-      few_top_boxes_.push_back(boxes[i]);
-      few_piece_first_.push_back(piece_first_[i]);
-      few_piece_count_.push_back(piece_count_[i]);
-    }
+    for (std::uint32_t i : few_top_) few_top_boxes_.push_back(boxes[i]);
   }
   build_ms_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
 }
@@ -277,9 +275,7 @@ void TwoLevelAccelerator::visit(std::uint32_t i, const Ray& ray, Hit& best) cons
 }
 
 bool TwoLevelAccelerator::blocks(std::uint32_t i, const Ray& ray) const {
-  const Instance& inst = instances_[i];
-  return bottoms_[inst.mesh]->occluded(inst.motion == kNoHit ? ray_to_object(inst, ray)
-                                                              : ray_to_object(at_time(i, ray.time), ray));
+  return bottoms_[instances_[i].mesh]->occluded(entered(i, ray, Hit{}));
 }
 
 Hit TwoLevelAccelerator::intersect(const Ray& ray) const {
@@ -296,9 +292,7 @@ void TwoLevelAccelerator::intersect_top(const Ray& ray, Hit& best) const {
   if (best.valid()) clipped.tfar = two_level::smaller(best.t, clipped.tfar);  // keeps a NaN tfar (Scan)
   if (!few_top_.empty()) {  // each instance in turn, against its own box
     TopRay tr;
-    unsigned met = few_met(clipped, tr);
-    if (tr.plan == TopPlan::Scan) met = (1u << few_top_.size()) - 1;
-    for (; met != 0; met &= met - 1) visit(few_top_[std::countr_zero(met)], ray, best);
+    for (unsigned met = few_met(clipped, tr); met != 0; met &= met - 1) visit(few_top_[std::countr_zero(met)], ray, best);
     return;
   }
   if (two_level::segment_misses(clipped, top_.bounds(), beta_, extent_)) return;
@@ -339,9 +333,7 @@ bool TwoLevelAccelerator::occluded_top(const Ray& ray) const {
   if (top_.bounds().empty()) return false;
   if (!few_top_.empty()) {
     TopRay tr;
-    unsigned met = few_met(ray, tr);
-    if (tr.plan == TopPlan::Scan) met = (1u << few_top_.size()) - 1;
-    for (; met != 0; met &= met - 1)
+    for (unsigned met = few_met(ray, tr); met != 0; met &= met - 1)
       if (blocks(few_top_[std::countr_zero(met)], ray)) return true;
     return false;
   }
@@ -376,7 +368,7 @@ bool TwoLevelAccelerator::occluded_top(const Ray& ray) const {
 std::size_t TwoLevelAccelerator::memory_bytes() const {
   std::size_t bytes = top_.memory_bytes() + instances_.capacity() * sizeof(Instance) +
                       (piece_first_.capacity() + piece_count_.capacity()) * sizeof(std::uint32_t) +
-                      (few_top_.capacity() + few_piece_first_.capacity() + few_piece_count_.capacity()) * sizeof(std::uint32_t) +
+                      few_top_.capacity() * sizeof(std::uint32_t) +
                       few_top_boxes_.capacity() * sizeof(Bounds3) +
                       piece_boxes_.capacity() * sizeof(Bounds3) + direct_.capacity() +
                       direct_list_.capacity() * sizeof(std::uint32_t) +

@@ -120,15 +120,15 @@ class TwoLevelAccelerator final : public Accelerator {
   // box instead of walking the top level's tree; the same answers by the tie rule.
   //
   // The few_top_ entries the ray may meet, bit j for few_top_[j], and the ray set up in
-  // `tr` (its plan Scan when every instance must be scanned). First its segment box
+  // `tr` (every bit for a ray the top level scans: TopPlan::Scan). First its segment box
   // (two_level_ray.h) against each instance's box (a moving one's over the piece of the
   // shutter holding the ray's time), which needs no division; then, only for the boxes it
   // meets, the fat ray's clip (fat_ray_meets_box), which rejects far more of a long ray's.
   unsigned few_met(const Ray& clipped, two_level::TopRay& tr) const;
   // few_top_[j]'s box at `time`.
   const Bounds3& few_box(std::size_t j, float time) const {
-    return few_piece_count_[j] == 0 ? few_top_boxes_[j]
-                                    : piece_boxes_[few_piece_first_[j] + two_level::piece_of(few_piece_count_[j], time)];
+    const std::uint32_t i = few_top_[j];
+    return piece_count_[i] == 0 ? few_top_boxes_[j] : piece_box(i, time);
   }
   // Moving instance i's box over the piece of the shutter holding `time`
   // (ShutterBounds::pieces).
@@ -152,10 +152,9 @@ class TwoLevelAccelerator final : public Accelerator {
   std::vector<std::uint32_t> direct_list_;  // the direct instances, ascending
   std::vector<std::uint32_t> few_top_;  // the top level's instances when at most kFewTopInstances, else empty
   std::vector<Bounds3> few_top_boxes_;  // their widened world boxes (used for those that do not move)
-  std::vector<std::uint32_t> few_piece_first_, few_piece_count_;  // their pieces' (count 0: static)
   // Per moving instance, the index of its first piece's box (ShutterBounds::pieces).
   std::vector<std::uint32_t> piece_first_;
-  std::vector<std::uint32_t> piece_count_;  // per moving instance, its piece count
+  std::vector<std::uint32_t> piece_count_;  // per instance, its piece count (0: static)
   std::vector<Bounds3> piece_boxes_;
   TopLevelTree top_;
   double beta_ = 0.0;    // the fat ray's radius per unit of |org| (two_level_ray.h)

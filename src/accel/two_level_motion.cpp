@@ -195,7 +195,7 @@ ShutterBounds shutter_bounds(const InstancedGeometry& geometry, const Instance& 
   std::vector<glm::dvec3> sample_lo(sample_count, glm::dvec3(kInfinity)), sample_hi(sample_count, glm::dvec3(-kInfinity));
   double stray = 0.0;
   for (std::size_t i = 0; i < intervals; ++i) {
-    for (int j = 0; j <= kSamplesPerKey; ++j) {
+    for (int j = i == 0 ? 0 : 1; j <= kSamplesPerKey; ++j) {  // an inner key: the interval before sampled it
       const std::size_t m = i * kSamplesPerKey + std::size_t(j);
       const float time = float(double(m) / samples);
       const Instance at = instance_at(geometry, inst, time);

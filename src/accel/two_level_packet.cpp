@@ -63,9 +63,10 @@ void TwoLevelAccelerator::setup_packet(const Ray* rays, const Hit* hits, std::ui
     Ray clipped = rays[k];
     if (hits && hits[k].valid()) clipped.tfar = two_level::smaller(hits[k].t, clipped.tfar);  // keeps a NaN (Scan)
     if (few) {
+      // Few lanes need no common direction, and a lane the top level would scan enters
+      // every instance here too.
       for (unsigned met = few_met(clipped, p.rays[k]); met != 0; met &= met - 1) p.few[std::countr_zero(met)] |= bit;
-      if (p.rays[k].plan == TopPlan::Scan) p.scan |= bit;
-      continue;  // few lanes need no common direction
+      continue;
     }
     if (two_level::segment_misses(clipped, top_.bounds(), beta_, extent_)) continue;
     setup_top_ray(clipped, top_.bounds(), beta_, extent_, p.rays[k]);

@@ -372,34 +372,56 @@ TEST(TwoLevelFactory, PicksOneOrTwoLevels) {
 }
 
 // Edge cases of the input: no instances, an instance of an empty mesh, non-finite rays
-// (the scan path) and a zero direction give the definition's answers.
+// (the scan path) and a zero direction give the definition's answers, as single rays and
+// as packets (a packet's scanned lanes enter every instance with the others when the top
+// level is met instance by instance, and go one by one when it is walked as a tree).
 TEST(TwoLevelInput, EmptyAndDegenerateCases) {
-  InstancedScene s = random_instanced_scene(8, 0);
   {
-    InstancedScene none = s;
+    InstancedScene none = random_instanced_scene(8, 0);
     none.geometry.instances.clear();
     const TwoLevelAccelerator accel(none.tris, none.geometry, "kdtree");
     EXPECT_FALSE(accel.intersect(Ray{}).valid());
     EXPECT_FALSE(accel.occluded(Ray{}));
   }
-  s.geometry.meshes.push_back({5, 0});  // an empty mesh, drawn
-  s.geometry.instances.push_back(make_instance(3, glm::dmat3(1.0), {0, 0, 0}));
-  const TwoLevelAccelerator accel(s.tris, s.geometry, "kdtree");
-  const InstanceScan scan(s);
-  const float nan = std::numeric_limits<float>::quiet_NaN();
-  const Ray rays[] = {
-      Ray{{-10.0f, 0.1f, 0.2f}, 0.0f, {1.0f, 0.0f, 0.0f}, kInfinity},
-      Ray{{nan, 0.0f, 0.0f}, 0.0f, {1.0f, 0.0f, 0.0f}, kInfinity},
-      Ray{{-10.0f, 0.0f, 0.0f}, 0.0f, {kInfinity, 0.0f, 0.0f}, kInfinity},
-      Ray{{-10.0f, 0.1f, 0.2f}, 0.0f, {0.0f, 0.0f, 0.0f}, kInfinity},
-      Ray{{-10.0f, 0.1f, 0.2f}, 0.0f, {1e-30f, 1e-31f, 0.0f}, kInfinity},
-      Ray{{1e25f, 0.1f, 0.2f}, 0.0f, {-1.0f, 0.0f, 0.0f}, kInfinity},
-  };
-  for (const Ray& r : rays) {
-    EXPECT_TRUE(same_bits(accel.intersect(r), scan.intersect(r))) << describe(r);
-    EXPECT_EQ(accel.occluded(r), scan.occluded(r)) << describe(r);
+  for (const int extra : {0, 12}) {
+    InstancedScene s = random_instanced_scene(8, extra);
+    s.geometry.meshes.push_back({5, 0});  // an empty mesh, drawn
+    s.geometry.instances.push_back(make_instance(3, glm::dmat3(1.0), {0, 0, 0}));
+    const TwoLevelAccelerator accel(s.tris, s.geometry, "kdtree");
+    ASSERT_EQ(accel.meets_few_instances(), extra == 0);
+    const InstanceScan scan(s);
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    const Ray rays[] = {
+        Ray{{-10.0f, 0.1f, 0.2f}, 0.0f, {1.0f, 0.0f, 0.0f}, kInfinity},
+        Ray{{nan, 0.0f, 0.0f}, 0.0f, {1.0f, 0.0f, 0.0f}, kInfinity},
+        Ray{{-10.0f, 0.0f, 0.0f}, 0.0f, {kInfinity, 0.0f, 0.0f}, kInfinity},
+        Ray{{-10.0f, 0.1f, 0.2f}, 0.0f, {0.0f, 0.0f, 0.0f}, kInfinity},
+        Ray{{-10.0f, 0.1f, 0.2f}, 0.0f, {1e-30f, 1e-31f, 0.0f}, kInfinity},
+        Ray{{1e25f, 0.1f, 0.2f}, 0.0f, {-1.0f, 0.0f, 0.0f}, kInfinity},
+        Ray{{-10.0f, 0.1f, 0.2f}, 0.0f, {1.0f, 0.0f, 0.0f}, nan},
+    };
+    constexpr int kRays = sizeof(rays) / sizeof(rays[0]);
+    for (const Ray& r : rays) {
+      EXPECT_TRUE(same_bits(accel.intersect(r), scan.intersect(r))) << describe(r);
+      EXPECT_EQ(accel.occluded(r), scan.occluded(r)) << describe(r);
+    }
+    EXPECT_TRUE(accel.intersect(rays[0]).valid());
+    // A packet of them all, each beside ordinary rays from the same origin.
+    std::vector<Ray> packet;
+    for (int k = 0; k < 64; ++k) {
+      Ray r = rays[k % kRays];
+      if (k >= kRays && (k / kRays) % 2 == 1) r = Ray{{-10.0f, 0.05f * float(k % 7), 0.2f}, 0.0f, {1.0f, 0.01f * float(k % 5), 0.0f}, kInfinity};
+      packet.push_back(r);
+    }
+    std::vector<Hit> hits(packet.size());
+    accel.intersect_packet(packet.data(), hits.data(), int(packet.size()));
+    bool occluded[64];
+    accel.occluded_packet(packet.data(), occluded, int(packet.size()));
+    for (std::size_t k = 0; k < packet.size(); ++k) {
+      EXPECT_TRUE(same_bits(hits[k], accel.intersect(packet[k]))) << "lane " << k << ": " << describe(packet[k]);
+      EXPECT_EQ(occluded[k], accel.occluded(packet[k])) << "lane " << k << ": " << describe(packet[k]);
+    }
   }
-  EXPECT_TRUE(accel.intersect(rays[0]).valid());
 }
 
 INSTANTIATE_TEST_SUITE_P(AllIsas, TwoLevel, ::testing::ValuesIn(kd_test_isas()), kd_isa_param_name);

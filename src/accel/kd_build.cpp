@@ -25,6 +25,18 @@
 // once. Small subtrees splice into both children (Wald & Havran) in per-thread reused
 // buffers. Splicing is one pass and sorting five, so the right children's sorts cost
 // 20-35 % of a one-thread build (rings-6: 2.5 -> 3.0 s), about nothing on two threads.
+//
+// The lean build (inputs below KdBuildOptions::one_thread_below triangles, 65,536 by
+// default): the whole build runs on the calling thread, and nodes of at least kLeanBigNode
+// refs hold refs only: find_sah_split_axis_by_axis makes, sorts and sweeps one axis of
+// events at a time (28 + 32 bytes per ref at once instead of 28 + 64), and both children
+// sort their own events. Below some 10^5 triangles the fixed costs of two threads (both
+// top-level subtrees with their events at once, each thread's freed lists in its own
+// malloc arena, whose top malloc_trim never returns) were most of the peak. Measured with
+// `lancer-spd-scaling --peak-of` (the 2-vCPU AMD EPYC, bytes per triangle of generation
+// and build, two threads -> lean): rings-1 (11,522 triangles) 262-288 -> 168-170, mount-6
+// 260-278 -> 154-160, balls-2 199-202 -> 147-149. The tree is the same bytes; the build
+// takes up to 1.6x as long (rings-2, 57,602 triangles: 92-104 -> 125-162 ms).
 #include "accel/kd_build.h"
 
 #include <algorithm>
@@ -32,6 +44,7 @@
 #include <stdexcept>
 #include <string>
 
+#include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 
 #include "accel/kd_build_events.h"
@@ -46,6 +59,10 @@ namespace {
 // Nodes with at least this many refs split with parallel sweeps and build their children
 // as separate tasks; smaller subtrees are built sequentially into one array.
 constexpr std::size_t kParallelThreshold = 4096;
+// In a lean build, nodes with at least this many refs are built as big nodes (refs only,
+// splits found axis by axis): a smaller sequential subtree holds at most about twice its
+// refs' 76 bytes each.
+constexpr std::size_t kLeanBigNode = 1024;
 
 // Inputs beyond this many triangles could overflow the 30-bit offsets.
 constexpr std::size_t kMaxTriangles = std::size_t(1) << 28;
@@ -55,6 +72,8 @@ struct Context {
   const KdBuildOptions& options;
   CostModel model;
   int depth_bound;
+  // One thread, least memory: big nodes find their split axis by axis and hold refs only.
+  bool lean;
 };
 
 // A built subtree: nodes[0] is its root, offsets are local to these arrays.
@@ -70,7 +89,8 @@ SplitChoice choose_split(const Context& ctx, const NodeInput& in, bool parallel)
   if (!(surface_area(in.cell) > 0.0)) return {};
   switch (ctx.options.split) {
     case KdSplit::Sah: {
-      SplitChoice c = find_sah_split(in.events, n, in.cell, ctx.model, parallel);
+      SplitChoice c = in.events.empty() ? find_sah_split_axis_by_axis(in.refs, in.cell, ctx.model)
+                                        : find_sah_split(in.events, n, in.cell, ctx.model, parallel);
       // Leaf when no split is cheaper than intersecting every triangle (Wald & Havran).
       if (!c.found || !(c.cost < ctx.model.intersection * double(n))) return {};
       return c;
@@ -133,9 +153,12 @@ Subtree build_subtree(const Context& ctx, NodeInput& in) {
   out.nodes.resize(1);
   BuildScratch scratch;
   // Big nodes hand their children refs only (partition_node): events are sorted here,
-  // when the node starts, the same lists splicing would have given.
-  if (ctx.options.split == KdSplit::Sah && in.events.empty()) in.events = make_sorted_events(in.refs);
-  if (in.refs.size() < kParallelThreshold) {
+  // when the node starts, the same lists splicing would have given. In a lean build a big
+  // node never holds all three axes: choose_split sorts and sweeps one at a time.
+  const bool big = in.refs.size() >= (ctx.lean ? kLeanBigNode : kParallelThreshold);
+  if (ctx.options.split == KdSplit::Sah && in.events.empty() && !(ctx.lean && big))
+    in.events = make_sorted_events(in.refs);
+  if (!big) {
     emit_sequential(ctx, in, out, 0, scratch);
     return out;
   }
@@ -205,10 +228,18 @@ KdBuildOutput build_kd_tree(const TriangleSoA& tris, const KdBuildOptions& optio
   root.cell = out.bounds;
   root.budget = out.reference_budget;
 
+  const bool one_thread = n >= kd::kParallelThreshold && tris.size() < options.one_thread_below;
   const kd::Context ctx{tris, options,
                         {options.traversal_cost, options.intersection_cost, options.empty_space_factor},
-                        out.depth_bound};
-  kd::Subtree tree = kd::build_subtree(ctx, root);
+                        out.depth_bound, one_thread};
+  kd::Subtree tree;
+  const auto build = [&] { tree = kd::build_subtree(ctx, root); };
+  if (one_thread) {
+    tbb::task_arena arena(1);
+    arena.execute(build);
+  } else {
+    build();
+  }
   if (tree.nodes.size() > kKdMaxOffset || tree.prims.size() > kKdMaxOffset)
     throw std::length_error("kd-tree: " + std::to_string(tree.nodes.size()) + " nodes and " +
                             std::to_string(tree.prims.size()) + " references exceed the 30-bit node offsets");

@@ -39,6 +39,9 @@ struct KdBuildOptions {
   float reference_factor = 4.0f;
   // Middle and Median split until a leaf holds at most this many triangles.
   std::size_t naive_leaf_size = 4;
+  // Inputs of fewer triangles are built on the calling thread alone, with the least
+  // memory (kd_build.cpp, "Peak memory"); the tree is the same either way.
+  std::size_t one_thread_below = std::size_t(1) << 16;
 };
 
 // The tree before the SoA layout: leaves index `prims` (unpadded, ascending triangle

@@ -18,31 +18,32 @@ void append_events(const Bounds3& box, int axis, std::uint32_t index, EventVecto
   }
 }
 
+void make_sorted_axis_events(const RefVector& refs, int a, EventVector& list, EventVector& buffer) {
+  list.resize(2 * refs.size());  // the most there can be; uninitialised (EventVector)
+  Event* out = list.data();
+  for (std::size_t i = 0; i < refs.size(); ++i) {
+    const float lo = refs[i].box.lo[a], hi = refs[i].box.hi[a];
+    const auto index = static_cast<std::uint32_t>(i);
+    // Written branch-free: a planar ref writes one event, a start and an end otherwise.
+    const bool planar = lo == hi;
+    out[0] = Event::make(lo, planar ? kPlanar : kStart, index);
+    out[1] = Event::make(hi, kEnd, index);
+    out += planar ? 1 : 2;
+  }
+  list.resize(static_cast<std::size_t>(out - list.data()));
+  // Built in ascending ref order, so the stable sort by (pos, type) gives the
+  // (pos, type, ref) order of Event::operator<.
+  if (list.size() >= kRadixSortMin) {
+    radix_sort_events(list, buffer);
+  } else {
+    std::sort(list.begin(), list.end());
+  }
+}
+
 EventLists make_sorted_events(const RefVector& refs) {
   EventLists ev;
   EventVector buffer;
-  for (int a = 0; a < 3; ++a) {
-    EventVector& list = ev.axis[a];
-    list.resize(2 * refs.size());  // the most there can be; uninitialised (EventVector)
-    Event* out = list.data();
-    for (std::size_t i = 0; i < refs.size(); ++i) {
-      const float lo = refs[i].box.lo[a], hi = refs[i].box.hi[a];
-      const auto index = static_cast<std::uint32_t>(i);
-      // Written branch-free: a planar ref writes one event, a start and an end otherwise.
-      const bool planar = lo == hi;
-      out[0] = Event::make(lo, planar ? kPlanar : kStart, index);
-      out[1] = Event::make(hi, kEnd, index);
-      out += planar ? 1 : 2;
-    }
-    list.resize(static_cast<std::size_t>(out - list.data()));
-    // Built in ascending ref order, so the stable sort by (pos, type) gives the
-    // (pos, type, ref) order of Event::operator<.
-    if (list.size() >= kRadixSortMin) {
-      radix_sort_events(list, buffer);
-    } else {
-      std::sort(list.begin(), list.end());
-    }
-  }
+  for (int a = 0; a < 3; ++a) make_sorted_axis_events(refs, a, ev.axis[a], buffer);
   return ev;
 }
 
@@ -171,6 +172,23 @@ SplitChoice find_sah_split(const EventLists& events, std::size_t n, const Bounds
   SplitChoice best;
   for (int a = 0; a < 3; ++a)
     if (per_axis[a].found && (!best.found || per_axis[a].cost < best.cost)) best = per_axis[a];
+  return best;
+}
+
+SplitChoice find_sah_split_axis_by_axis(const RefVector& refs, const Bounds3& cell, const CostModel& model) {
+  const double area = surface_area(cell);
+  constexpr double kNoBound = std::numeric_limits<double>::infinity();
+  SplitChoice best;
+  double bound = kNoBound;
+  EventVector list, buffer;
+  // find_sah_split's sequential order and bounds, so the same plane wins.
+  for (int a = 0; a < 3; ++a) {
+    if (!(cell.lo[a] < cell.hi[a])) continue;
+    make_sorted_axis_events(refs, a, list, buffer);
+    const SplitChoice c = sweep_axis(list, a, refs.size(), cell, area, model, bound);
+    if (c.found) bound = std::min(bound, c.cost);
+    if (c.found && (!best.found || c.cost < best.cost)) best = c;
+  }
   return best;
 }
 

@@ -16,6 +16,8 @@ void append_events(const Bounds3& box, int axis, std::uint32_t index, EventVecto
 // Events of all refs, each axis sorted by (position, type, ref). One axis at a time, so
 // that one sort buffer at a time adds to the build's peak memory.
 EventLists make_sorted_events(const RefVector& refs);
+// The same for one axis, into `list` (`buffer`: the radix sort's).
+void make_sorted_axis_events(const RefVector& refs, int axis, EventVector& list, EventVector& buffer);
 
 // The cheapest plane strictly inside `cell` on any axis whose cell extent is not zero,
 // by the SAH sweep over the sorted events of a node with `n` refs. Planar triangles on
@@ -24,6 +26,11 @@ EventLists make_sorted_events(const RefVector& refs);
 // lies strictly inside the cell. Requires surface_area(cell) > 0.
 SplitChoice find_sah_split(const EventLists& events, std::size_t n, const Bounds3& cell, const CostModel& model,
                            bool parallel);
+
+// find_sah_split's answer for a node that holds refs only: each axis's events are made,
+// sorted, swept and dropped in turn, so that one axis of events (and one sort buffer) is
+// held at a time instead of three. Sequential.
+SplitChoice find_sah_split_axis_by_axis(const RefVector& refs, const Bounds3& cell, const CostModel& model);
 
 // Splices the parent's sorted events into the children (section 4.3) in one pass per
 // axis: events of refs that stay whole on one side keep their order and get the child's

@@ -7,7 +7,8 @@ namespace lancer {
 // build), malloc keeps the freed blocks for reuse, and they count as resident memory
 // until the process ends: about 30 MB on a million-triangle build. Called once per phase
 // (it costs about a millisecond), so that the next phase's peak does not stack on them.
-// A no-op where the C library offers no way (glibc's malloc_trim).
-void release_free_memory() noexcept;
+// True when memory went back; always false where the C library offers no way (it is
+// glibc's malloc_trim).
+bool release_free_memory() noexcept;
 
 }  // namespace lancer

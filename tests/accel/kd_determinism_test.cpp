@@ -1,5 +1,7 @@
-// The kd-tree build gives bytewise identical arrays whatever the number of threads.
+// The kd-tree build gives bytewise identical arrays whatever the number of threads, and
+// whether it runs as the lean one-thread build (KdBuildOptions::one_thread_below) or not.
 #include <cstring>
+#include <limits>
 
 #include <gtest/gtest.h>
 #include <tbb/task_arena.h>
@@ -33,15 +35,20 @@ TEST(KdDeterminism, SameTreeForOneAndSeveralThreads) {
   for (KdSplit split : {KdSplit::Sah, KdSplit::Middle, KdSplit::Median}) {
     KdBuildOptions o;
     o.split = split;
+    o.one_thread_below = 0;  // never the lean build
+    KdBuildOptions lean = o;
+    lean.one_thread_below = std::numeric_limits<std::size_t>::max();
     tbb::task_arena one(1), several(4);
-    std::unique_ptr<KdTree> a, b, c;
+    std::unique_ptr<KdTree> a, b, c, d;
     one.execute([&] { a = std::make_unique<KdTree>(t, o); });
     several.execute([&] { b = std::make_unique<KdTree>(t, o); });
     c = std::make_unique<KdTree>(t, o);  // the default arena
+    several.execute([&] { d = std::make_unique<KdTree>(t, lean); });
     ASSERT_GT(a->nodes().size(), 1000u);
     const std::string what = "split " + std::to_string(int(split));
     expect_identical(*a, *b, what + ", 1 vs 4 threads");
     expect_identical(*a, *c, what + ", 1 thread vs default arena");
+    expect_identical(*a, *d, what + ", 1 thread vs the lean build");
   }
 }
 

@@ -245,7 +245,8 @@ KdBuildOutput build_kd_tree(const TriangleSoA& tris, const KdBuildOptions& optio
                             std::to_string(tree.prims.size()) + " references exceed the 30-bit node offsets");
   out.nodes = std::move(tree.nodes);
   out.prims = std::move(tree.prims);
-  release_free_memory();  // the build's small working vectors, before the tree is laid out
+  // The build's small working vectors, before the tree is laid out.
+  if (options.hand_back_memory) release_free_memory();
   return out;
 }
 

@@ -42,6 +42,11 @@ struct KdBuildOptions {
   // Inputs of fewer triangles are built on the calling thread alone, with the least
   // memory (kd_build.cpp, "Peak memory"); the tree is the same either way.
   std::size_t one_thread_below = std::size_t(1) << 16;
+  // Hand the memory the build freed back to the system before the leaves are laid out
+  // (release_free_memory). It walks every free block of every arena, milliseconds on a
+  // fragmented heap: a caller that builds many trees (one per instanced mesh) turns it
+  // off and hands memory back once after them.
+  bool hand_back_memory = true;
 };
 
 // The tree before the SoA layout: leaves index `prims` (unpadded, ascending triangle

@@ -15,6 +15,7 @@
 #include "accel/two_level_motion.h"
 #include "accel/two_level_norms.h"
 #include "accel/two_level_ray.h"
+#include "simd/release_free_memory.h"
 
 namespace lancer {
 
@@ -200,18 +201,21 @@ TwoLevelAccelerator::TwoLevelAccelerator(const TriangleSoA& tris, const Instance
   std::vector<Bounds3> object_boxes(mesh_count);
   for (std::size_t m = 0; m < mesh_count; ++m) mesh_first_[m] = geometry.meshes[m].first;
   // One mesh per task: each writes only its own slots, and every tree is the same for any
-  // thread count, so the result is too.
+  // thread count, so the result is too. Freed memory goes back once, after all of them.
+  KdBuildOptions mesh_kd = kd;
+  mesh_kd.hand_back_memory = false;
   tbb::parallel_for(std::size_t(0), mesh_count, [&](std::size_t m) {
     if (!used[m]) return;
     auto local = std::make_unique<TriangleSoA>(copy_mesh(tris, geometry.meshes[m]));
     object_boxes[m] = finite_bounds(*local);
     if (bottom_name_ == "kdtree") {
-      bottoms_[m] = std::make_unique<KdTree>(*local, kd, isa);
+      bottoms_[m] = std::make_unique<KdTree>(*local, mesh_kd, isa);
     } else {
       bottoms_[m] = std::make_unique<BruteForce>(*local);
       kept_[m] = std::move(local);
     }
   });
+  if (kd.hand_back_memory) release_free_memory();
 
   instances_ = geometry.instances;
   motions_ = PreparedMotions(geometry);

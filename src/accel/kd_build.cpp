@@ -27,7 +27,8 @@
 // 20-35 % of a one-thread build (rings-6: 2.5 -> 3.0 s), about nothing on two threads.
 //
 // The lean build (inputs below KdBuildOptions::one_thread_below triangles, 65,536 by
-// default): the whole build runs on the calling thread, and nodes of at least kLeanBigNode
+// default): the whole build runs on the calling thread (no oneTBB task: not even oneTBB's
+// own allocations can fail there), and nodes of at least kLeanBigNode
 // refs hold refs only: find_sah_split_axis_by_axis makes, sorts and sweeps one axis of
 // events at a time (28 + 32 bytes per ref at once instead of 28 + 64), and both children
 // sort their own events. Below some 10^5 triangles the fixed costs of two threads (both
@@ -44,7 +45,6 @@
 #include <stdexcept>
 #include <string>
 
-#include <tbb/task_arena.h>
 #include <tbb/task_group.h>
 
 #include "accel/kd_build_events.h"
@@ -72,7 +72,8 @@ struct Context {
   const KdBuildOptions& options;
   CostModel model;
   int depth_bound;
-  // One thread, least memory: big nodes find their split axis by axis and hold refs only.
+  // One thread (the caller's, no task is spawned), least memory: big nodes find their
+  // split axis by axis and hold refs only.
   bool lean;
 };
 
@@ -114,7 +115,7 @@ void emit_leaf(const NodeInput& in, Subtree& out, std::size_t slot) {
 void emit_sequential(const Context& ctx, NodeInput& in, Subtree& out, std::size_t slot, BuildScratch& scratch) {
   const SplitChoice c = choose_split(ctx, in, false);
   NodeInput left, right;
-  if (!c.found || !partition_node(ctx.tris, in, c, false, left, right, scratch)) {
+  if (!c.found || !partition_node(ctx.tris, in, c, false, false, left, right, scratch)) {
     emit_leaf(in, out, slot);
     scratch.recycle(in);
     return;
@@ -162,17 +163,22 @@ Subtree build_subtree(const Context& ctx, NodeInput& in) {
     emit_sequential(ctx, in, out, 0, scratch);
     return out;
   }
-  const SplitChoice c = choose_split(ctx, in, true);
+  const SplitChoice c = choose_split(ctx, in, !ctx.lean);
   NodeInput left, right;
-  const bool split = c.found && partition_node(ctx.tris, in, c, true, left, right, scratch);
+  const bool split = c.found && partition_node(ctx.tris, in, c, true, !ctx.lean, left, right, scratch);
   scratch = {};  // the parent's vectors: free them before the subtrees are built
   if (!split) {
     emit_leaf(in, out, 0);
     return out;
   }
   // The left child, which has its events, goes on in this thread; the right one holds
-  // only refs while it waits for a thread.
+  // only refs while it waits for a thread (a lean build has one: left, then right).
   Subtree l, r;
+  if (ctx.lean) {
+    l = build_subtree(ctx, left);
+    r = build_subtree(ctx, right);
+    return concatenate(c, std::move(l), std::move(r));
+  }
   tbb::task_group right_task;
   right_task.run([&] { r = build_subtree(ctx, right); });
   l = build_subtree(ctx, left);
@@ -232,14 +238,7 @@ KdBuildOutput build_kd_tree(const TriangleSoA& tris, const KdBuildOptions& optio
   const kd::Context ctx{tris, options,
                         {options.traversal_cost, options.intersection_cost, options.empty_space_factor},
                         out.depth_bound, one_thread};
-  kd::Subtree tree;
-  const auto build = [&] { tree = kd::build_subtree(ctx, root); };
-  if (one_thread) {
-    tbb::task_arena arena(1);
-    arena.execute(build);
-  } else {
-    build();
-  }
+  kd::Subtree tree = kd::build_subtree(ctx, root);
   if (tree.nodes.size() > kKdMaxOffset || tree.prims.size() > kKdMaxOffset)
     throw std::length_error("kd-tree: " + std::to_string(tree.nodes.size()) + " nodes and " +
                             std::to_string(tree.prims.size()) + " references exceed the 30-bit node offsets");

@@ -23,7 +23,7 @@ std::uint8_t classify(const Bounds3& b, int axis, float pos, PlanarSide planar) 
 
 }  // namespace
 
-bool partition_node(const TriangleSoA& tris, NodeInput& in, const SplitChoice& choice, bool parallel,
+bool partition_node(const TriangleSoA& tris, NodeInput& in, const SplitChoice& choice, bool big, bool threads,
                     NodeInput& left, NodeInput& right, BuildScratch& scratch) {
   const std::size_t n = in.refs.size();
   const int axis = choice.axis;
@@ -61,7 +61,7 @@ bool partition_node(const TriangleSoA& tris, NodeInput& in, const SplitChoice& c
       }
     }
   };
-  if (parallel && straddling.size() > 4096) {
+  if (threads && straddling.size() > 4096) {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, straddling.size(), 1024),
                       [&](const tbb::blocked_range<std::size_t>& r) { clip_range(r.begin(), r.end()); });
   } else {
@@ -79,7 +79,7 @@ bool partition_node(const TriangleSoA& tris, NodeInput& in, const SplitChoice& c
 
   // Child ref indices (children keep the parent's order, ascending triangle index), and
   // the reclipped refs of each child with their new bounds, for their fresh events.
-  const bool both = !parallel;  // a big node gives events to its left child only
+  const bool both = !big;  // a big node gives events to its left child only
   std::vector<std::uint32_t>& remap_left = scratch.remap_left;
   std::vector<std::uint32_t>& remap_right = scratch.remap_right;
   remap_left.resize(n);
@@ -128,7 +128,7 @@ bool partition_node(const TriangleSoA& tris, NodeInput& in, const SplitChoice& c
   // one left ref, so the write never overtakes the read): parent and children then hold
   // n + nr refs at once instead of n + nl + nr. A small node keeps its vectors for reuse.
   Ref* const parent = in.refs.data();
-  if (parallel) {
+  if (big) {
     left.refs = std::move(in.refs);
   } else {
     left.refs = scratch.take_refs();
@@ -143,7 +143,7 @@ bool partition_node(const TriangleSoA& tris, NodeInput& in, const SplitChoice& c
     const Ref r = parent[i];
     if (s & kInLeft) {
       const Ref out{r.tri, reclipped ? clip_left[k] : r.box};
-      if (parallel) {
+      if (big) {
         parent[next_left] = out;
       } else {
         left.refs.push_back(out);
@@ -153,7 +153,7 @@ bool partition_node(const TriangleSoA& tris, NodeInput& in, const SplitChoice& c
     if (s & kInRight) right.refs.push_back({r.tri, reclipped ? clip_right[k] : r.box});
     if (reclipped) ++k;
   }
-  if (parallel) left.refs.resize(nl);
+  if (big) left.refs.resize(nl);
 
   // Budget shares: budget * nl / (nl + nr) >= nl because nl + nr <= budget. The budget is
   // below 2^32 and nl below 2^30 (kd_build.cpp checks), so the product fits in 64 bits.

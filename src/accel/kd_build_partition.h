@@ -13,12 +13,12 @@ namespace lancer::kd {
 // reference budget proportional to their ref counts. Returns false, leaving `in` as it
 // was, when the children together would hold more references than `in.budget`; else
 // hands the vectors of `in` to `scratch` for reuse (leaving `in` empty) and returns true.
-// `scratch` holds the temporaries and supplies the children's vectors. `parallel` (a big
-// node) clips in parallel, splices events into the left child only, freeing its own axis
-// by axis before the children's refs are made, writes the left refs over its own, and
-// gives the right child refs only: it sorts its own events when it starts (the bound on
-// peak memory, see kd_build.cpp).
-bool partition_node(const TriangleSoA& tris, NodeInput& in, const SplitChoice& choice, bool parallel,
+// `scratch` holds the temporaries and supplies the children's vectors. `big` (a big node)
+// splices events into the left child only, freeing its own axis by axis before the
+// children's refs are made, writes the left refs over its own, and gives the right child
+// refs only: it sorts its own events when it starts (the bound on peak memory, see
+// kd_build.cpp). `threads`: many straddling triangles are clipped in parallel.
+bool partition_node(const TriangleSoA& tris, NodeInput& in, const SplitChoice& choice, bool big, bool threads,
                     NodeInput& left, NodeInput& right, BuildScratch& scratch);
 
 }  // namespace lancer::kd

@@ -20,7 +20,7 @@ OutOfMemory::OutOfMemory(std::size_t bytes) noexcept : bytes_(bytes) {
 
 std::string out_of_memory_message(const std::bad_alloc& e) {
   if (const auto* sized = dynamic_cast<const OutOfMemory*>(&e)) return std::string("out of memory: ") + sized->what();
-  return "out of memory";
+  return "out of memory (in a library allocation that does not say how much it asked for)";
 }
 
 }  // namespace lancer

@@ -20,7 +20,8 @@ class OutOfMemory : public std::bad_alloc {
 };
 
 // The line a program prints for `e`: "out of memory: could not allocate ..." for an
-// OutOfMemory, plain "out of memory" for any other std::bad_alloc.
+// OutOfMemory; for any other std::bad_alloc (oneTBB's, the C++ library's own) it says
+// that the size is not known.
 std::string out_of_memory_message(const std::bad_alloc& e);
 
 }  // namespace lancer

@@ -20,7 +20,8 @@ TEST(OutOfMemory, NamesTheSizeInBytesAndInTheNearestUnit) {
 
 TEST(OutOfMemory, MessageForAnyBadAlloc) {
   EXPECT_EQ(out_of_memory_message(OutOfMemory(2048)), "out of memory: could not allocate 2.00 KiB (2048 bytes)");
-  EXPECT_EQ(out_of_memory_message(std::bad_alloc()), "out of memory");
+  EXPECT_EQ(out_of_memory_message(std::bad_alloc()),
+            "out of memory (in a library allocation that does not say how much it asked for)");
 }
 
 TEST(BigBlockAllocator, AFailedMappingThrowsItsSize) {

@@ -4,7 +4,9 @@
 
 
 #include <algorithm>
+#include <new>
 #include <ostream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -16,10 +18,12 @@
 #include "app/info_command.h"
 #include "app/rays_command.h"
 #include "app/render_command.h"
+#include "app/start_threads.h"
 #include "app/trace_command.h"
 #include "render/caustic_map.h"
 #include "render/sppm_render.h"
 #include "simd/isa.h"
+#include "simd/out_of_memory.h"
 
 namespace lancer {
 
@@ -328,6 +332,15 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
   }
 
   if (app.got_subcommand(bench)) return run_bench(bench->remaining(), err);
+  try {
+    start_worker_threads();
+  } catch (const std::bad_alloc& e) {
+    err << "lancer: error: " << out_of_memory_message(e) << " starting the worker threads\n";
+    return 1;
+  } catch (const std::exception& e) {
+    err << "lancer: error: could not start the worker threads: " << e.what() << "\n";
+    return 1;
+  }
   if (CLI::App* render = app.get_subcommand("render"); render->parsed()) {
     for (const CLI::Option* o : render->get_options())
       if (o->count() > 0 && !o->get_lnames().empty()) render_opt.given.push_back("--" + o->get_lnames().front());

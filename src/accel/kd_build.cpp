@@ -171,8 +171,8 @@ Subtree build_subtree(const Context& ctx, NodeInput& in) {
     emit_leaf(in, out, 0);
     return out;
   }
-  // The left child, which has its events, goes on in this thread; the right one holds
-  // only refs while it waits for a thread (a lean build has one: left, then right).
+  // A lean build has one thread: left, then right. Otherwise the left child, which has its
+  // events, goes on in this thread; the right one holds only refs while it waits for one.
   Subtree l, r;
   if (ctx.lean) {
     l = build_subtree(ctx, left);

@@ -333,7 +333,10 @@ int run_cli(int argc, const char* const* argv, std::ostream& out, std::ostream& 
 
   if (app.got_subcommand(bench)) return run_bench(bench->remaining(), err);
   try {
-    start_worker_threads();
+    const bool rendering = app.get_subcommand("render")->parsed();
+    start_worker_threads(rendering                          ? render_opt.settings.threads
+                         : app.got_subcommand("trace") ? trace_opt.threads
+                                                           : 0);
   } catch (const std::bad_alloc& e) {
     err << "lancer: error: " << out_of_memory_message(e) << " starting the worker threads\n";
     return 1;

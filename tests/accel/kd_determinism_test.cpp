@@ -31,6 +31,14 @@ void expect_identical(const KdTree& a, const KdTree& b, const std::string& what)
 TEST(KdDeterminism, SameTreeForOneAndSeveralThreads) {
   Scene s = make_random_triangle_soup(40000, 21, {{-4, -4, -4}, {4, 4, 4}}, 0.4f);
   append_icosphere(s, {0.0f, 0.0f, 0.0f}, 3.0f, 5, 0);  // 20480 triangles sharing edges
+  // Axis-aligned quads in three stacks of planes: planar events on every axis, many refs
+  // lying in one split plane, and cells that share their faces with triangles.
+  for (int k = 0; k < 24; ++k) {
+    const float c = -3.5f + 0.25f * float(k);
+    append_quad(s, {c, -2, -2}, {c, 2, -2}, {c, 2, 2}, {c, -2, 2}, 0);
+    append_quad(s, {-2, c, -2}, {2, c, -2}, {2, c, 2}, {-2, c, 2}, 0);
+    append_box(s, {{c, c, c}, {c + 0.2f, c + 0.2f, c + 0.2f}}, 0);
+  }
   const TriangleSoA& t = s.triangles;
   for (KdSplit split : {KdSplit::Sah, KdSplit::Middle, KdSplit::Median}) {
     KdBuildOptions o;

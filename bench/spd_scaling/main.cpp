@@ -6,6 +6,7 @@
 #include <exception>
 #include <iostream>
 #include <new>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -22,7 +23,14 @@ using namespace lancer::bench;
 
 int run(int argc, char** argv) {
   // The child process of measure_peak_in_child (not a user option).
-  if (argc == 4 && std::string(argv[1]) == kPeakChildOption) return run_peak_child(argv[2], std::atoi(argv[3]));
+  if (argc == 5 && std::string(argv[1]) == kPeakChildOption) {
+    const std::optional<lancer::Isa> isa = lancer::parse_isa(argv[4]);
+    if (!isa) {
+      std::cerr << "unknown instruction set '" << argv[4] << "'\n";
+      return 1;
+    }
+    return run_peak_child(argv[2], std::atoi(argv[3]), *isa);
+  }
   int code = 0;
   auto options = parse_scaling_options(argc, argv, std::cout, std::cerr, code);
   if (!options) return code;

@@ -149,7 +149,7 @@ void measure(const ScalingPoint& point, const ScalingSettings& settings, Scaling
 
 }  // namespace
 
-int run_peak_child(const std::string& spd, int size) {
+int run_peak_child(const std::string& spd, int size, Isa isa) {
   try {
     // The baseline is a process that has built a tree before: oneTBB's worker threads
     // and their stacks, malloc's per-thread arenas and first pages, a few MB whatever the
@@ -166,7 +166,7 @@ int run_peak_child(const std::string& spd, int size) {
     const std::int64_t before = resident_bytes();
     {
       const BenchScene bench = load_bench_scene(spd_entry(spd, size), 8);
-      const KdTree kd(bench.scene.triangles, KdBuildOptions{});
+      const KdTree kd(bench.scene.triangles, KdBuildOptions{}, isa);
       (void)kd;
     }
     const std::int64_t peak = peak_resident_bytes();
@@ -189,13 +189,14 @@ std::string this_executable() {
   return self;
 }
 
-std::int64_t measure_peak_in_child(const std::string& program, const ScalingPoint& point, std::string& error) {
+std::int64_t measure_peak_in_child(const std::string& program, const ScalingPoint& point, Isa isa,
+                                   std::string& error) {
   if (program.empty() || program.find('\'') != std::string::npos) {
     error = "no program to measure the peak with: '" + program + "'";
     return -1;
   }
   const std::string command = "'" + program + "' " + kPeakChildOption + " " + point.spd + " " +
-                              std::to_string(point.size) + " 2>&1";
+                              std::to_string(point.size) + " " + std::string(isa_name(isa)) + " 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
   if (!pipe) {
     error = "cannot start the peak measurement";
@@ -240,7 +241,7 @@ ScalingResult measure_scaling_point(const ScalingPoint& point, const ScalingSett
   try {
     if (!settings.peak_program.empty()) {
       std::string peak_error;
-      r.peak_load_build_bytes = measure_peak_in_child(settings.peak_program, point, peak_error);
+      r.peak_load_build_bytes = measure_peak_in_child(settings.peak_program, point, settings.isa, peak_error);
       if (r.peak_load_build_bytes < 0) throw std::runtime_error(peak_error);
     }
     measure(point, settings, r);

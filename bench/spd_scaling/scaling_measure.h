@@ -79,7 +79,8 @@ inline constexpr std::uint64_t kPeakBoundFromTriangles = 10'000;
 // points holds freed memory that the next one reuses without it showing as resident
 // growth. The child builds with all threads, as `lancer` does. Returns -1 and sets
 // `error` when it fails.
-std::int64_t measure_peak_in_child(const std::string& program, const ScalingPoint& point, std::string& error);
+std::int64_t measure_peak_in_child(const std::string& program, const ScalingPoint& point, Isa isa,
+                                   std::string& error);
 
 // This process's executable (/proc/self/exe), or "" when it cannot be read.
 std::string this_executable();
@@ -87,7 +88,7 @@ std::string this_executable();
 // The child's side: `lancer-spd-scaling --peak-of SPD SIZE` generates, builds, and prints
 // "peak_bytes N" on stdout (VmHWM after, less VmRSS before). Exit status 0 or 1.
 inline constexpr const char* kPeakChildOption = "--peak-of";
-int run_peak_child(const std::string& spd, int size);
+int run_peak_child(const std::string& spd, int size, Isa isa);
 
 // MemAvailable of /proc/meminfo in bytes, or -1 when it cannot be read.
 std::int64_t available_memory_bytes();

@@ -23,8 +23,9 @@ using namespace lancer::bench;
 
 int run(int argc, char** argv) {
   // The child process of measure_peak_in_child (not a user option).
-  if (argc == 5 && std::string(argv[1]) == kPeakChildOption) {
-    const std::optional<lancer::Isa> isa = lancer::parse_isa(argv[4]);
+  // `--peak-of SPD SIZE [ISA]` (the ISA's tree; default: the best this CPU runs).
+  if ((argc == 4 || argc == 5) && std::string(argv[1]) == kPeakChildOption) {
+    const std::optional<lancer::Isa> isa = argc == 5 ? lancer::parse_isa(argv[4]) : lancer::best_supported_isa();
     if (!isa) {
       std::cerr << "unknown instruction set '" << argv[4] << "'\n";
       return 1;

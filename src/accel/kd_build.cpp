@@ -37,7 +37,7 @@
 // `lancer-spd-scaling --peak-of` (the 2-vCPU AMD EPYC, bytes per triangle of generation
 // and build, two threads -> lean): rings-1 (11,522 triangles) 262-288 -> 168-170, mount-6
 // 260-278 -> 154-160, balls-2 199-202 -> 147-149. The tree is the same bytes; the build
-// takes up to 1.6x as long (rings-2, 57,602 triangles: 92-104 -> 125-162 ms).
+// takes up to 1.6x as long (AVX-512 tree, rings-2, 57,602 triangles: 92-104 -> 125-162 ms).
 #include "accel/kd_build.h"
 
 #include <algorithm>

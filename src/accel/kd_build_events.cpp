@@ -149,47 +149,52 @@ inline void merge_one(const Event& e, const Event*& fresh, const Event* fresh_en
   *out++ = e;
 }
 
-}  // namespace
-
-SplitChoice find_sah_split(const EventLists& events, std::size_t n, const Bounds3& cell, const CostModel& model,
-                           bool parallel) {
-  const double area = surface_area(cell);
-  SplitChoice per_axis[3];
-  constexpr double kNoBound = std::numeric_limits<double>::infinity();
-  auto sweep = [&](int a, double bound) {
-    if (cell.lo[a] < cell.hi[a]) per_axis[a] = sweep_axis(events.axis[a], a, n, cell, area, model, bound);
-  };
-  if (parallel) {
-    tbb::parallel_invoke([&] { sweep(0, kNoBound); }, [&] { sweep(1, kNoBound); }, [&] { sweep(2, kNoBound); });
-  } else {
-    // Later axes only look for planes cheaper than the best found so far (same result).
-    double bound = kNoBound;
-    for (int a = 0; a < 3; ++a) {
-      sweep(a, bound);
-      if (per_axis[a].found) bound = std::min(bound, per_axis[a].cost);
-    }
-  }
+// The cheapest of the axes' answers; a tie goes to the lower axis.
+SplitChoice cheapest(const SplitChoice (&per_axis)[3]) {
   SplitChoice best;
   for (int a = 0; a < 3; ++a)
     if (per_axis[a].found && (!best.found || per_axis[a].cost < best.cost)) best = per_axis[a];
   return best;
 }
 
-SplitChoice find_sah_split_axis_by_axis(const RefVector& refs, const Bounds3& cell, const CostModel& model) {
+// The axes in turn, each looking only for planes cheaper than the best of those before
+// (the same result as sweeping each without a bound). events_of(a) gives axis a's sorted
+// events; it is called once per axis whose cell extent is not zero.
+template <typename EventsOf>
+SplitChoice sweep_axes_in_turn(std::size_t n, const Bounds3& cell, const CostModel& model, EventsOf events_of) {
   const double area = surface_area(cell);
-  constexpr double kNoBound = std::numeric_limits<double>::infinity();
-  SplitChoice best;
-  double bound = kNoBound;
-  EventVector list, buffer;
-  // find_sah_split's sequential order and bounds, so the same plane wins.
+  SplitChoice per_axis[3];
+  double bound = std::numeric_limits<double>::infinity();
   for (int a = 0; a < 3; ++a) {
     if (!(cell.lo[a] < cell.hi[a])) continue;
-    make_sorted_axis_events(refs, a, list, buffer);
-    const SplitChoice c = sweep_axis(list, a, refs.size(), cell, area, model, bound);
-    if (c.found) bound = std::min(bound, c.cost);
-    if (c.found && (!best.found || c.cost < best.cost)) best = c;
+    per_axis[a] = sweep_axis(events_of(a), a, n, cell, area, model, bound);
+    if (per_axis[a].found) bound = std::min(bound, per_axis[a].cost);
   }
-  return best;
+  return cheapest(per_axis);
+}
+
+}  // namespace
+
+SplitChoice find_sah_split(const EventLists& events, std::size_t n, const Bounds3& cell, const CostModel& model,
+                           bool parallel) {
+  if (!parallel)
+    return sweep_axes_in_turn(n, cell, model, [&](int a) -> const EventVector& { return events.axis[a]; });
+  const double area = surface_area(cell);
+  SplitChoice per_axis[3];
+  constexpr double kNoBound = std::numeric_limits<double>::infinity();
+  auto sweep = [&](int a) {
+    if (cell.lo[a] < cell.hi[a]) per_axis[a] = sweep_axis(events.axis[a], a, n, cell, area, model, kNoBound);
+  };
+  tbb::parallel_invoke([&] { sweep(0); }, [&] { sweep(1); }, [&] { sweep(2); });
+  return cheapest(per_axis);
+}
+
+SplitChoice find_sah_split_axis_by_axis(const RefVector& refs, const Bounds3& cell, const CostModel& model) {
+  EventVector list, buffer;
+  return sweep_axes_in_turn(refs.size(), cell, model, [&](int a) -> const EventVector& {
+    make_sorted_axis_events(refs, a, list, buffer);
+    return list;
+  });
 }
 
 void splice_events(EventLists& parent, std::size_t left_refs, std::size_t right_refs, BuildScratch& scratch,

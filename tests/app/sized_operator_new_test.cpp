@@ -7,27 +7,16 @@
 #include <new>
 
 #include "simd/out_of_memory.h"
+#include "test_sanitizer.h"
 
 namespace lancer {
 namespace {
-
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kSanitized = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kSanitized = true;
-#else
-constexpr bool kSanitized = false;
-#endif
-#else
-constexpr bool kSanitized = false;
-#endif
 
 // 2^61 bytes: more than any address space, so malloc fails at once without a memory limit.
 constexpr std::size_t kImpossible = std::size_t(1) << 61;
 
 TEST(SizedOperatorNew, AFailedNewThrowsItsSize) {
-  if (kSanitized) GTEST_SKIP() << "AddressSanitizer brings its own operator new";
+  if (test::kAddressSanitized) GTEST_SKIP() << "AddressSanitizer brings its own operator new";
   for (int form = 0; form < 3; ++form) {
     try {
       void* p = form == 0   ? ::operator new(kImpossible)
@@ -43,7 +32,7 @@ TEST(SizedOperatorNew, AFailedNewThrowsItsSize) {
 }
 
 TEST(SizedOperatorNew, NothrowFormsReturnNull) {
-  if (kSanitized) GTEST_SKIP() << "AddressSanitizer brings its own operator new";
+  if (test::kAddressSanitized) GTEST_SKIP() << "AddressSanitizer brings its own operator new";
   EXPECT_EQ(::operator new(kImpossible, std::nothrow), nullptr);
   EXPECT_EQ(::operator new(kImpossible, std::align_val_t(64), std::nothrow), nullptr);
   void* p = ::operator new(16, std::align_val_t(128));

@@ -26,6 +26,7 @@
 #include "simd/out_of_memory.h"
 #include "simd/process_memory.h"
 #include "test_paths.h"
+#include "test_sanitizer.h"
 
 namespace lancer {
 namespace {
@@ -233,10 +234,9 @@ TEST(Sppm, BitIdenticalAcrossThreadsTilesAndModes) {
 // iterations is within 10 % of that after 10. A leak of one byte per pixel and iteration
 // would add 1 MB by then, a leak of the photons or the visible points tens of MB.
 TEST(Sppm, MemoryStaysFlatOverAThousandIterations) {
-#if defined(__SANITIZE_ADDRESS__)
-  GTEST_SKIP() << "AddressSanitizer's quarantine holds freed memory back (up to 256 MiB), so resident "
-                  "memory grows with every short-lived allocation; the release build measures it";
-#endif
+  if (test::kAddressSanitized)
+    GTEST_SKIP() << "AddressSanitizer's quarantine holds freed memory back (up to 256 MiB), so resident "
+                    "memory grows with every short-lived allocation; the release build measures it";
   const Scene scene = load_scene(test::scenes_dir() / "cornell-box-spheres.gltf");
   const KdTree accel(scene.triangles);
   constexpr int kSize = 32;

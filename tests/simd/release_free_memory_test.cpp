@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "simd/process_memory.h"
+#include "test_sanitizer.h"
 
 namespace lancer {
 namespace {
@@ -19,9 +20,8 @@ namespace {
 TEST(ReleaseFreeMemory, HandsAHoleInTheHeapBack) {
 #if !defined(__GLIBC__)
   GTEST_SKIP() << "only glibc's malloc has a way to hand freed blocks back (malloc_trim)";
-#elif defined(__SANITIZE_ADDRESS__)
-  GTEST_SKIP() << "AddressSanitizer's allocator replaces glibc's malloc, which malloc_trim trims";
 #else
+  if (test::kAddressSanitized) GTEST_SKIP() << "AddressSanitizer's allocator replaces glibc's malloc, which malloc_trim trims";
   if (resident_bytes() < 0) GTEST_SKIP() << "no /proc/self/status here";
   // 32 MiB in 64 KiB blocks (under malloc's mmap threshold, so from the heap), touched and
   // freed while free() is told never to trim (a trim threshold above the heap): whatever

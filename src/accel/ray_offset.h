@@ -62,6 +62,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 
 #include <glm/common.hpp>
 #include <glm/geometric.hpp>
@@ -209,34 +210,17 @@ class SurfaceOffset {
   //
   // `time`: where in the shutter the rays leave (Ray::time, kept for the shadow rays made
   // from this offset); `inst` must be the instance as it is at that time (instance_at).
+  // Construction only keeps the inputs: the plane in double (Plane) is made when a ray is
+  // solved here, and the batch solvers (ray_offset_batch.h) make it themselves, per lane,
+  // with the very same operations.
   SurfaceOffset(const glm::vec3& p, const glm::vec3& n, const TriangleCorners& tri, const Instance* inst = nullptr,
                 float time = 0.0f)
-      : tri_(tri), p_(inst ? to_object_point(*inst, p) : p), n_(n), p_world_(p), has_inst_(inst != nullptr),
-        inst_(inst ? *inst : Instance{}), time_(time), corner_(tri[0]) {
-    // The plane in double. Differences of floats are exact there (or nearly), so each
-    // component of the cross product is off by at most its two products' roundings: the
-    // normal is good to a few 2^-53 per component, and exact for an axis-aligned plane.
-    const glm::dvec3 e1 = glm::dvec3(tri[1]) - corner_, e2 = glm::dvec3(tri[2]) - corner_;
-    const glm::dvec3 cross = glm::cross(e1, e2);
-    const double len = std::sqrt(glm::dot(cross, cross));
-    valid_ = len > 0.0 && std::isfinite(len) && std::isfinite(p.x + p.y + p.z);
-    if (!valid_) return;
-    const double inv_len = 1.0 / len;
-    normal_ = cross * inv_len;
-    const glm::dvec3 products(std::fabs(e1.y * e2.z) + std::fabs(e1.z * e2.y),
-                              std::fabs(e1.z * e2.x) + std::fabs(e1.x * e2.z),
-                              std::fabs(e1.x * e2.y) + std::fabs(e1.y * e2.x));
-    const glm::dvec3 normal_error = (0x1p-51 * inv_len) * products + 0x1p-50 * glm::abs(normal_);
-    height_error_weights_ = normal_error + 0x1p-50 * glm::abs(normal_);
-    const glm::dvec3 rel = glm::dvec3(p_) - corner_;
-    p_height_ = glm::dot(rel, normal_);
-    p_height_error_ = height_error(rel);
-    for (int k = 0; k < 3; ++k) {
-      for (const glm::vec3& v : tri) extent_ = std::max(extent_, std::fabs(double(v[k]) - p_[k]));
-      o_rounding_ += 2.0 * ray_offset_detail::gamma(1) * std::fabs(normal_[k] * p_[k]);
-    }
-    if (inst) o_rounding_ += 2.0 * round_trip_error(*inst);
-  }
+      : tri_(tri),
+        p_(inst ? to_object_point(*inst, p) : p),
+        n_(n),
+        p_world_(p),
+        inst_(inst ? std::optional<Instance>(*inst) : std::nullopt),
+        time_(time) {}
 
   // The origin for a ray of direction `dir`, which must be exactly the direction the ray is
   // traced with (the bound follows the kernel's arithmetic on it). A ray within about 1e-6
@@ -255,11 +239,54 @@ class SurfaceOffset {
   }
 
   // Lays out the ray origin(target) (origin_towards(target) when towards) as lane i of a
-  // batch solver, with everything solve knows before its first attempt; false when the
-  // bound does not apply and the ray must be solved here (ray_offset_batch.cpp).
+  // batch solver: the triangle, the point, the normal and the target, from which the solver
+  // makes the plane and the first attempt as plane() and start() do. False when the ray
+  // must be solved here (a triangle drawn through an instance: ray_offset_batch.cpp).
   bool fill_lane(const glm::vec3& target, bool towards, ray_offset_batch::Lanes& lanes, int i) const;
 
  private:
+  // The triangle's plane in double and what the bound needs of it at p.
+  struct Plane {
+    glm::dvec3 corner{0.0}, normal{0.0}, height_error_weights{0.0};
+    double p_height = 0.0, p_height_error = 0.0, extent = 0.0, o_rounding = 0.0;
+    bool valid = false;
+  };
+
+  // Made once, on the first ray solved here (a path's rays are solved in batches instead).
+  const Plane& plane() const {
+    if (!plane_) plane_ = make_plane();
+    return *plane_;
+  }
+
+  Plane make_plane() const {
+    Plane pl;
+    pl.corner = glm::dvec3(tri_[0]);
+    // The plane in double. Differences of floats are exact there (or nearly), so each
+    // component of the cross product is off by at most its two products' roundings: the
+    // normal is good to a few 2^-53 per component, and exact for an axis-aligned plane.
+    const glm::dvec3 e1 = glm::dvec3(tri_[1]) - pl.corner, e2 = glm::dvec3(tri_[2]) - pl.corner;
+    const glm::dvec3 cross = glm::cross(e1, e2);
+    const double len = std::sqrt(glm::dot(cross, cross));
+    pl.valid = len > 0.0 && std::isfinite(len) && std::isfinite(p_world_.x + p_world_.y + p_world_.z);
+    if (!pl.valid) return pl;
+    const double inv_len = 1.0 / len;
+    pl.normal = cross * inv_len;
+    const glm::dvec3 products(std::fabs(e1.y * e2.z) + std::fabs(e1.z * e2.y),
+                              std::fabs(e1.z * e2.x) + std::fabs(e1.x * e2.z),
+                              std::fabs(e1.x * e2.y) + std::fabs(e1.y * e2.x));
+    const glm::dvec3 normal_error = (0x1p-51 * inv_len) * products + 0x1p-50 * glm::abs(pl.normal);
+    pl.height_error_weights = normal_error + 0x1p-50 * glm::abs(pl.normal);
+    const glm::dvec3 rel = glm::dvec3(p_) - pl.corner;
+    pl.p_height = glm::dot(rel, pl.normal);
+    pl.p_height_error = glm::dot(glm::abs(rel), pl.height_error_weights);
+    for (int k = 0; k < 3; ++k) {
+      for (const glm::vec3& v : tri_) pl.extent = std::max(pl.extent, std::fabs(double(v[k]) - p_[k]));
+      pl.o_rounding += 2.0 * ray_offset_detail::gamma(1) * std::fabs(pl.normal[k] * p_[k]);
+    }
+    if (inst_) pl.o_rounding += 2.0 * round_trip_error(*inst_, pl.normal);
+    return pl;
+  }
+
   // What solve knows before its first attempt, for a ray whose direction from p is `dir`:
   // the plane's normal on the ray's side, how far p may lie on the wrong side, the first
   // height. False when the bound does not apply (a triangle without area, an unusable dir).
@@ -267,15 +294,15 @@ class SurfaceOffset {
     glm::dvec3 normal{0.0};
     double deficit = 0.0, h = 0.0;
   };
-  bool start(const glm::vec3& dir, Start& s) const {
+  bool start(const Plane& pl, const glm::vec3& dir, Start& s) const {
     using namespace ray_offset_detail;
-    if (!valid_ || !usable(dir)) return false;
-    const double toward = glm::dot(glm::dvec3(has_inst_ ? inst_.to_object.vector(dir) : dir), normal_);
-    const bool flip = toward < 0.0 || (toward == 0.0 && glm::dot(glm::dvec3(n_), normal_) < 0.0);
-    s.normal = flip ? -normal_ : normal_;
+    if (!pl.valid || !usable(dir)) return false;
+    const double toward = glm::dot(glm::dvec3(inst_ ? inst_->to_object.vector(dir) : dir), pl.normal);
+    const bool flip = toward < 0.0 || (toward == 0.0 && glm::dot(glm::dvec3(n_), pl.normal) < 0.0);
+    s.normal = flip ? -pl.normal : pl.normal;
     // How far p lies on the wrong side of the plane, at most.
-    s.deficit = std::max(0.0, (flip ? p_height_ : -p_height_) + p_height_error_);
-    s.h = kMinHeight + 2.0 * s.deficit + o_rounding_;
+    s.deficit = std::max(0.0, (flip ? pl.p_height : -pl.p_height) + pl.p_height_error);
+    s.h = kMinHeight + 2.0 * s.deficit + pl.o_rounding;
     return true;
   }
 
@@ -284,8 +311,9 @@ class SurfaceOffset {
   template <typename DirFor>
   glm::vec3 solve(const glm::vec3& dir, DirFor dir_for) const {
     using namespace ray_offset_detail;
+    const Plane& pl = plane();
     Start st;
-    if (!start(dir, st)) return offset_ray_origin(p_world_, glm::dot(dir, n_) < 0.0f ? -n_ : n_);
+    if (!start(pl, dir, st)) return offset_ray_origin(p_world_, glm::dot(dir, n_) < 0.0f ? -n_ : n_);
     const glm::dvec3& normal = st.normal;
     const double deficit = st.deficit;
     double h = st.h;
@@ -295,9 +323,9 @@ class SurfaceOffset {
     for (int attempt = 0; attempt < 64; ++attempt) {
       o = glm::vec3(glm::dvec3(p_) + h * normal);
       // Through an instance: the world origin, and the origin and direction the kernel sees.
-      const glm::vec3 world = has_inst_ ? inst_.to_world.point(o) : o;
-      if (has_inst_) o = inst_.to_object.point(world);
-      const glm::vec3 d = has_inst_ ? inst_.to_object.vector(dir_for(world)) : dir_for(o);
+      const glm::vec3 world = inst_ ? inst_->to_world.point(o) : o;
+      if (inst_) o = inst_->to_object.point(world);
+      const glm::vec3 d = inst_ ? inst_->to_object.vector(dir_for(world)) : dir_for(o);
       if (!usable(d)) break;
       if (d != sheared) {
         // Every permutation the kernel could pick for d (a near tie may go either way).
@@ -308,16 +336,16 @@ class SurfaceOffset {
           if (a[k] >= a_max * (1.0f - 0x1p-16f)) shears[count++] = make_shear(d, normal, k);
         sheared = d;
       }
-      const glm::dvec3 rel = glm::dvec3(o) - corner_;
-      const double have = glm::dot(rel, normal) - height_error(rel);
+      const glm::dvec3 rel = glm::dvec3(o) - pl.corner;
+      const double have = glm::dot(rel, normal) - glm::dot(glm::abs(rel), pl.height_error_weights);
       double need = 0.0;
       for (int i = 0; i < count; ++i) need = std::max(need, required_height(tri_, o, normal, shears[i]));
       if (have > 0.0 && have >= need) return world;
       // Where no height is proven yet (a ray near tangent), grow from a few ulps of the extent.
-      h = std::max(2.0 * h, std::isfinite(need) ? 1.25 * need + 2.0 * deficit + o_rounding_
-                                                : gamma(4) * extent_);
+      h = std::max(2.0 * h, std::isfinite(need) ? 1.25 * need + 2.0 * deficit + pl.o_rounding
+                                                : gamma(4) * pl.extent);
     }
-    return has_inst_ ? inst_.to_world.point(o) : o;  // not reached for finite input: the line leaves the triangle long before
+    return inst_ ? inst_->to_world.point(o) : o;  // not reached for finite input: the line leaves the triangle long before
   }
 
   // p in the instance's space, rounded once from a double evaluation.
@@ -328,7 +356,7 @@ class SurfaceOffset {
 
   // How far, along the plane's normal, the trip of an origin near p to world space and back
   // (to_world, then to_object, each up to gamma_3 of its terms per component) may move it.
-  double round_trip_error(const Instance& inst) const {
+  double round_trip_error(const Instance& inst, const glm::dvec3& normal) const {
     using ray_offset_detail::gamma;
     const glm::dmat3 to_w = glm::dmat3(inst.to_world.linear), to_o = glm::dmat3(inst.to_object.linear);
     glm::dmat3 abs_w, abs_o;
@@ -340,7 +368,7 @@ class SurfaceOffset {
     const glm::dvec3 world_error = gamma(3) * (abs_w * glm::abs(glm::dvec3(p_)) + glm::abs(glm::dvec3(inst.to_world.offset)));
     const glm::dvec3 back_error =
         abs_o * world_error + gamma(3) * (abs_o * (world + world_error) + glm::abs(glm::dvec3(inst.to_object.offset)));
-    return glm::dot(glm::abs(normal_), back_error);
+    return glm::dot(glm::abs(normal), back_error);
   }
 
   static bool usable(const glm::vec3& d) {
@@ -348,19 +376,13 @@ class SurfaceOffset {
     return m > 0.0f && std::isfinite(m) && std::isfinite(d.x + d.y + d.z);
   }
 
-  // The error of a height computed as dot(rel, normal) in double (rel exact or nearly).
-  // The weights are the normal's error plus the dot product's own roundings (2^-50 of each term).
-  double height_error(const glm::dvec3& rel) const { return glm::dot(glm::abs(rel), height_error_weights_); }
-
   TriangleCorners tri_;
   glm::vec3 p_, n_;  // p_ in the triangle's space, n_ in world space
   glm::vec3 p_world_;
-  bool has_inst_ = false;
-  Instance inst_;  // a copy: a moving instance's transform exists only for this time
+  // A copy (a moving instance's transform exists only for this time); none in world space.
+  std::optional<Instance> inst_;
   float time_ = 0.0f;
-  glm::dvec3 corner_, normal_{0.0}, height_error_weights_{0.0};
-  double p_height_ = 0.0, p_height_error_ = 0.0, extent_ = 0.0, o_rounding_ = 0.0;
-  bool valid_ = false;
+  mutable std::optional<Plane> plane_;
 };
 
 // One ray's origin: SurfaceOffset(p, n, tri).origin(dir).

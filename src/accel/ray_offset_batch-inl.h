@@ -35,6 +35,7 @@ typedef std::int64_t vl __attribute__((vector_size(8 * N)));
 typedef std::int32_t vi __attribute__((vector_size(4 * N)));
 
 using ray_offset_batch::kMaxLanes;
+using ray_offset_detail::kMinHeight;
 
 inline vd load(const double* p) {
   vd v;
@@ -72,6 +73,12 @@ inline vf max(vf a, vf b) { return a < b ? b : a; }
 inline vl finite(vd v) { return (v - v) == 0.0; }
 inline vi finite(vf v) { return (v - v) == 0.0f; }
 
+// The square root of each lane, correctly rounded (as std::sqrt).
+inline vd sqrt(vd v) {
+  for (int i = 0; i < N; ++i) v[i] = __builtin_sqrt(v[i]);
+  return v;
+}
+
 // Component k (per lane, 0 to 2) of (x, y, z).
 inline vf pick(vi k, vf x, vf y, vf z) { return k == 0 ? x : (k == 1 ? y : z); }
 inline vd pick(vl k, vd x, vd y, vd z) { return k == 0 ? x : (k == 1 ? y : z); }
@@ -89,19 +96,61 @@ inline std::uint64_t solve_vector(const ray_offset_batch::Lanes& L, int o, int v
                       {load(L.tri[3] + o), load(L.tri[4] + o), load(L.tri[5] + o)},
                       {load(L.tri[6] + o), load(L.tri[7] + o), load(L.tri[8] + o)}};
   const vf p[3] = {load(L.p[0] + o), load(L.p[1] + o), load(L.p[2] + o)};
+  const vf n_given[3] = {load(L.n[0] + o), load(L.n[1] + o), load(L.n[2] + o)};
   const vf target[3] = {load(L.target[0] + o), load(L.target[1] + o), load(L.target[2] + o)};
-  const vd normal[3] = {load(L.normal[0] + o), load(L.normal[1] + o), load(L.normal[2] + o)};
-  const vd corner[3] = {load(L.corner[0] + o), load(L.corner[1] + o), load(L.corner[2] + o)};
-  const vd weights[3] = {load(L.weights[0] + o), load(L.weights[1] + o), load(L.weights[2] + o)};
-  const vd two_deficit = load(L.two_deficit + o), o_rounding = load(L.o_rounding + o);
   const vi towards = load(L.towards + o) != 0;
   const vd p_d[3] = {to_double(p[0]), to_double(p[1]), to_double(p[2])};
 
-  vd h = load(L.h0 + o);
+  // SurfaceOffset::make_plane: the plane in double.
+  const vd corner[3] = {to_double(v[0][0]), to_double(v[0][1]), to_double(v[0][2])};
+  vd e1[3], e2[3];
+  for (int k = 0; k < 3; ++k) {
+    e1[k] = to_double(v[1][k]) - corner[k];
+    e2[k] = to_double(v[2][k]) - corner[k];
+  }
+  const vd cross[3] = {e1[1] * e2[2] - e2[1] * e1[2], e1[2] * e2[0] - e2[2] * e1[0], e1[0] * e2[1] - e2[0] * e1[1]};
+  const vd len = sqrt(cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
+  const vl valid_plane = (len > 0.0) & finite(len) & wide(finite(p[0] + p[1] + p[2]));
+  const vd inv_len = 1.0 / len;
+  const vd plane_normal[3] = {cross[0] * inv_len, cross[1] * inv_len, cross[2] * inv_len};
+  const vd products[3] = {fabs(e1[1] * e2[2]) + fabs(e1[2] * e2[1]), fabs(e1[2] * e2[0]) + fabs(e1[0] * e2[2]),
+                          fabs(e1[0] * e2[1]) + fabs(e1[1] * e2[0])};
+  const vd error_scale = 0x1p-51 * inv_len;
+  vd weights[3];
+  for (int k = 0; k < 3; ++k) {
+    const vd normal_error = error_scale * products[k] + 0x1p-50 * glm_abs(plane_normal[k]);
+    weights[k] = normal_error + 0x1p-50 * glm_abs(plane_normal[k]);
+  }
+  vd p_rel[3];
+  for (int k = 0; k < 3; ++k) p_rel[k] = p_d[k] - corner[k];
+  const vd p_height = p_rel[0] * plane_normal[0] + p_rel[1] * plane_normal[1] + p_rel[2] * plane_normal[2];
+  const vd p_height_error =
+      glm_abs(p_rel[0]) * weights[0] + glm_abs(p_rel[1]) * weights[1] + glm_abs(p_rel[2]) * weights[2];
+  vd o_rounding = broadcast(0.0);
+  for (int k = 0; k < 3; ++k) o_rounding += (2.0 * kGamma1) * fabs(plane_normal[k] * p_d[k]);
+
+  // SurfaceOffset::start: the side, the deficit and the first height, for the ray from p.
+  vf dir0[3];
+  for (int k = 0; k < 3; ++k) dir0[k] = towards ? target[k] - p[k] : target[k];
+  const vf a0[3] = {fabs(dir0[0]), fabs(dir0[1]), fabs(dir0[2])};
+  const vf m0 = max(a0[0], max(a0[1], a0[2]));
+  const vi usable0 = (m0 > 0.0f) & finite(m0) & finite(dir0[0] + dir0[1] + dir0[2]);
+  const vd toward = to_double(dir0[0]) * plane_normal[0] + to_double(dir0[1]) * plane_normal[1] +
+                    to_double(dir0[2]) * plane_normal[2];
+  const vd given_side = to_double(n_given[0]) * plane_normal[0] + to_double(n_given[1]) * plane_normal[1] +
+                        to_double(n_given[2]) * plane_normal[2];
+  const vl flip = (toward < 0.0) | ((toward == 0.0) & (given_side < 0.0));
+  const vd normal[3] = {flip ? -plane_normal[0] : plane_normal[0], flip ? -plane_normal[1] : plane_normal[1],
+                        flip ? -plane_normal[2] : plane_normal[2]};
+  const vd deficit = max(broadcast(0.0), (flip ? p_height : -p_height) + p_height_error);
+  const vd two_deficit = 2.0 * deficit;
+
+  vd h = kMinHeight + two_deficit + o_rounding;
   vl lane{};
   for (int i = 0; i < N; ++i) lane[i] = i;
   vl done = lane >= valid;  // lanes not in use count as done
-  vl left = vl{} != 0;      // lanes given up: the scalar solver's
+  // Lanes given up: the scalar solver's, from the start where the bound does not apply.
+  vl left = ~done & ~(valid_plane & wide(usable0));
   vf org[3] = {p[0], p[1], p[2]};
   for (int attempt = 0; attempt < kBatchAttempts; ++attempt) {
     const vl active = ~(done | left);

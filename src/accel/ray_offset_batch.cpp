@@ -46,14 +46,9 @@ void copy_lane(Lanes& lanes, int from, int to) {
   for (auto& row : lanes.tri) row[to] = row[from];
   for (int k = 0; k < 3; ++k) {
     lanes.p[k][to] = lanes.p[k][from];
+    lanes.n[k][to] = lanes.n[k][from];
     lanes.target[k][to] = lanes.target[k][from];
-    lanes.normal[k][to] = lanes.normal[k][from];
-    lanes.corner[k][to] = lanes.corner[k][from];
-    lanes.weights[k][to] = lanes.weights[k][from];
   }
-  lanes.h0[to] = lanes.h0[from];
-  lanes.two_deficit[to] = lanes.two_deficit[from];
-  lanes.o_rounding[to] = lanes.o_rounding[from];
   lanes.towards[to] = lanes.towards[from];
 }
 
@@ -61,27 +56,19 @@ void copy_lane(Lanes& lanes, int from, int to) {
 }  // namespace ray_offset_batch
 
 bool SurfaceOffset::fill_lane(const glm::vec3& target, bool towards, ray_offset_batch::Lanes& lanes, int i) const {
-  Start st;
   // The batch solvers know no instance: a triangle drawn through one is solved in solve().
-  if (has_inst_ || !start(towards ? target - p_ : target, st)) return false;
+  if (inst_) return false;
   for (int v = 0; v < 3; ++v) {
     lanes.tri[3 * v][i] = tri_[static_cast<std::size_t>(v)].x;
     lanes.tri[3 * v + 1][i] = tri_[static_cast<std::size_t>(v)].y;
     lanes.tri[3 * v + 2][i] = tri_[static_cast<std::size_t>(v)].z;
   }
-  const float p[3] = {p_.x, p_.y, p_.z}, t[3] = {target.x, target.y, target.z};
-  const double n[3] = {st.normal.x, st.normal.y, st.normal.z}, c[3] = {corner_.x, corner_.y, corner_.z},
-               w[3] = {height_error_weights_.x, height_error_weights_.y, height_error_weights_.z};
+  const float p[3] = {p_.x, p_.y, p_.z}, n[3] = {n_.x, n_.y, n_.z}, t[3] = {target.x, target.y, target.z};
   for (int k = 0; k < 3; ++k) {
     lanes.p[k][i] = p[k];
+    lanes.n[k][i] = n[k];
     lanes.target[k][i] = t[k];
-    lanes.normal[k][i] = n[k];
-    lanes.corner[k][i] = c[k];
-    lanes.weights[k][i] = w[k];
   }
-  lanes.h0[i] = st.h;
-  lanes.two_deficit[i] = 2.0 * st.deficit;
-  lanes.o_rounding[i] = o_rounding_;
   lanes.towards[i] = towards ? 1 : 0;
   return true;
 }
@@ -108,7 +95,7 @@ int solve_origins(const OriginRequest* requests, glm::vec3* origins, int count, 
   alignas(64) float out[3][kMaxLanes];
   int lane_request[kMaxLanes];
   for (int first = 0; first < count;) {
-    // Fill up to kMaxLanes lanes; rays the bound does not apply to are solved at once.
+    // Fill up to kMaxLanes lanes; rays through an instance are solved at once.
     int n = 0;
     for (; first < count && n < kMaxLanes; ++first) {
       const OriginRequest& r = requests[first];

@@ -46,18 +46,13 @@ inline constexpr double kGamma2 = ray_offset_detail::gamma(2);
 inline constexpr double kGamma3 = ray_offset_detail::gamma(3);
 inline constexpr double kSubnormalError = ray_offset_detail::kSubnormalError;
 
-// The lanes of one call, structure of arrays: what SurfaceOffset::solve knows after its
-// start, for each ray.
+// The lanes of one call, structure of arrays: SurfaceOffset's inputs and the ray's target;
+// the solver makes the plane and the first attempt from them (SurfaceOffset::plane, start).
 struct Lanes {
   alignas(64) float tri[9][kMaxLanes];  // vertex i, axis k at [3 i + k]
   alignas(64) float p[3][kMaxLanes];
+  alignas(64) float n[3][kMaxLanes];       // the normal the caller gave: the side for a ray in the plane
   alignas(64) float target[3][kMaxLanes];  // the direction, or the segment's end
-  alignas(64) double normal[3][kMaxLanes];  // the plane's unit normal, on the side the ray leaves to
-  alignas(64) double corner[3][kMaxLanes];  // vertex 0, in double
-  alignas(64) double weights[3][kMaxLanes];  // SurfaceOffset's height-error weights
-  alignas(64) double h0[kMaxLanes];          // the first height tried
-  alignas(64) double two_deficit[kMaxLanes];  // 2 deficit
-  alignas(64) double o_rounding[kMaxLanes];
   alignas(64) std::int32_t towards[kMaxLanes];  // 1: target is an end point
 };
 

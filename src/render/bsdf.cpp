@@ -26,7 +26,7 @@ ShadingFrame coat_frame(const BsdfInputs& in, const ShadingFrame& frame) {
 Bsdf::Bsdf(const BsdfInputs& in, const ShadingFrame& frame, bool entering)
     : base_(in, frame, entering),
       coat_(in.clearcoat, in.clearcoat_roughness),
-      coat_frame_(coat_frame(in, frame)),
+      coat_frame_(coat_.exists() ? coat_frame(in, frame) : frame),  // read only where a coat exists
       sheen_(in.sheen_color, in.sheen_roughness),
       layered_(coat_.exists() || sheen_.exists()) {}
 

@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <optional>
 
 #include <glm/geometric.hpp>
 #include <glm/matrix.hpp>
@@ -25,14 +26,12 @@ class DrawnInstance {
   DrawnInstance(const Scene& scene, std::uint32_t instance, float time) {
     const Instance* inst = scene.instance_transform(instance);
     if (inst == nullptr) return;
-    present_ = true;
     value_ = inst->motion == kNoHit ? *inst : instance_at(scene.instancing, *inst, time);
   }
-  const Instance* get() const { return present_ ? &value_ : nullptr; }
+  const Instance* get() const { return value_ ? &*value_ : nullptr; }
 
  private:
-  Instance value_;
-  bool present_ = false;
+  std::optional<Instance> value_;  // none in world space (no identity transform written per hit)
 };
 
 inline TriangleCorners drawn_corners(const Scene& scene, std::uint32_t prim, const Instance* inst) {

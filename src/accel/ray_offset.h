@@ -253,6 +253,8 @@ class SurfaceOffset {
   };
 
   // Made once, on the first ray solved here (a path's rays are solved in batches instead).
+  // A cache in a const object: one SurfaceOffset must not be solved from two threads at once
+  // (each integrator makes its own per hit; copies are independent).
   const Plane& plane() const {
     if (!plane_) plane_ = make_plane();
     return *plane_;

@@ -71,7 +71,7 @@ void walk_photon(const Scene& scene, const Accelerator& accel, const LightEmissi
                  std::uint32_t stream_y, std::uint64_t seed, float power_scale, std::uint64_t& rays, Visit&& visit) {
   using namespace photon_walk;
   using path_rules::is_black, path_rules::is_finite, path_rules::max_component, path_rules::survival;
-  using path_rules::kRouletteDepth;
+  using path_rules::roulette_after;
   SobolSampler sampler(static_cast<std::uint32_t>(index >> 32), stream_y, static_cast<std::uint32_t>(index), seed);
   const EmittedPhoton emitted = emission.sample(sampler.get1(kEmitPickDimension), sampler.get2(kEmitPositionDimensions),
                                                 sampler.get2(kEmitDirectionDimensions));
@@ -143,7 +143,7 @@ void walk_photon(const Scene& scene, const Accelerator& accel, const LightEmissi
     if (is_black(beta) || !is_finite(beta)) return;
     if (bs->transmitted && !si.thin_walled) in_volume = si.front_face && volume_absorption(si, sigma_a);
     crossings = 0;
-    if (++bounces >= kRouletteDepth) {
+    if (roulette_after(++bounces, bs->delta)) {
       const float survive = survival(max_component(beta) / start_power);
       if (chance.roulette() >= survive) return;
       beta /= survive;

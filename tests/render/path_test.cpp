@@ -8,6 +8,8 @@
 //  - a smooth glass slab (ior 1.5) in front of an emitter: the slab's transmittance with
 //    all internal reflections, (1 - R) / (1 + R), R = ((n - 1) / (n + 1))^2;
 //  - a perfect mirror (metallic, base colour c) at 45 degrees: Schlick's c + (1 - c)(1 - cos)^5.
+//  - four bounces between two such mirrors: every sample the same, no roulette after a delta
+//    bounce.
 // And no sample is ever NaN or infinite.
 #include <cmath>
 #include <vector>
@@ -118,6 +120,26 @@ TEST(PathTracer, PerfectMirrorReflectsSchlicksFresnel) {
   const PinholeCamera cam = PinholeCamera::look_at({0, 0, 5}, {0, 0, 0}, {0, 1, 0}, 0.02f, 16, 16);
   const double c = 0.8, cos45 = std::sqrt(0.5);
   expect_radiance(render_path(scene, cam, 16), c + (1.0 - c) * std::pow(1.0 - cos45, 5.0), "mirror");
+}
+
+// Russian roulette is not played after a delta event (path_rules::roulette_after): a path
+// through mirrors alone brings every sample the same light. Each camera ray bounces four
+// times between two mirrors (base colour 0.5) at 45 degrees before it meets the emitter,
+// so the throughput is below 1/7 when the roulette would first be played; with it, most
+// samples would be 0 and the rest several times the answer.
+TEST(PathTracer, NoRouletteAfterMirrorBounces) {
+  Scene scene;
+  const std::uint32_t mirror = add_material(scene, test::mirror_material(glm::vec3(0.5f)));
+  append_quad(scene, {-10, 1, -100}, {8, 1, -100}, {8, 1, 100}, {-10, 1, 100}, mirror);
+  append_quad(scene, {-10, -1, -100}, {8, -1, -100}, {8, -1, 100}, {-10, -1, 100}, mirror);
+  Material emitter = black_emitter(1.0f);
+  emitter.double_sided = true;
+  append_quad(scene, {8, -2, -100}, {8, 2, -100}, {8, 2, 100}, {8, -2, 100}, add_material(scene, emitter));
+  // Along (1, 1, 0): mirrors met at x = 1, 3, 5 and 7, the emitter at x = 8.
+  const PinholeCamera cam = PinholeCamera::look_at({0, 0, 0}, {1, 1, 0}, {0, 0, 1}, 0.02f, 8, 8);
+  const ImageRGB image = render_path(scene, cam, 16);
+  const double c = 0.5, f = c + (1.0 - c) * std::pow(1.0 - std::sqrt(0.5), 5.0), expected = std::pow(f, 4.0);
+  for (float v : image.rgb) ASSERT_NEAR(v, expected, 2e-3 * expected) << "every sample the same: " << expected;
 }
 
 }  // namespace

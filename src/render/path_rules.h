@@ -43,13 +43,18 @@ constexpr std::uint32_t bounce_dimensions(int light_samples) {
 constexpr int kRouletteDepth = 3;
 constexpr float kMinSurvival = 0.05f;
 
-// Whether the roulette is played after scattering event `bounces` (counted from 1): from
-// kRouletteDepth on, and never after a delta event (a mirror, a smooth refraction). Such an
-// event keeps nearly all of the throughput and adds no choice of its own, and the light it
-// passes on is the rare, bright caustic: killing it there adds variance where the image
-// has most (measured: the mirror/glass Cornell box's MSE -16 % for 5 % more time, four
-// seeds, docs/performance.md). Paths between mirrors still end at the bounce limit.
-inline bool roulette_after(int bounces, bool delta) { return bounces >= kRouletteDepth && !delta; }
+// Whether the roulette is played after scattering event `bounces` (counted from 1), the
+// path's throughput (relative to its start) being `throughput`: from kRouletteDepth on, but
+// after a delta event (a mirror, a smooth refraction) only once the throughput has fallen
+// below kDeltaRouletteBelow. Such an event keeps most of the throughput and adds no choice
+// of its own, and the light it passes on is the rare, bright caustic: killing it there
+// added variance where the image has most (measured: the mirror/glass Cornell box's MSE
+// -16 % for 5 % more time, four seeds, docs/performance.md). A path caught between two
+// imperfect mirrors still ends soon, not at the bounce limit.
+constexpr float kDeltaRouletteBelow = 1.0f / 16.0f;
+inline bool roulette_after(int bounces, bool delta, float throughput) {
+  return bounces >= kRouletteDepth && (!delta || throughput < kDeltaRouletteBelow);
+}
 
 inline float max_component(const glm::vec3& v) { return std::max(v.x, std::max(v.y, v.z)); }
 inline bool is_black(const glm::vec3& v) { return v.x <= 0.0f && v.y <= 0.0f && v.z <= 0.0f; }

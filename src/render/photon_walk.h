@@ -143,7 +143,7 @@ void walk_photon(const Scene& scene, const Accelerator& accel, const LightEmissi
     if (is_black(beta) || !is_finite(beta)) return;
     if (bs->transmitted && !si.thin_walled) in_volume = si.front_face && volume_absorption(si, sigma_a);
     crossings = 0;
-    if (roulette_after(++bounces, bs->delta)) {
+    if (roulette_after(++bounces, bs->delta, max_component(beta) / start_power)) {
       const float survive = survival(max_component(beta) / start_power);
       if (chance.roulette() >= survive) return;
       beta /= survive;

@@ -122,14 +122,15 @@ TEST(PathTracer, PerfectMirrorReflectsSchlicksFresnel) {
   expect_radiance(render_path(scene, cam, 16), c + (1.0 - c) * std::pow(1.0 - cos45, 5.0), "mirror");
 }
 
-// Russian roulette is not played after a delta event (path_rules::roulette_after): a path
-// through mirrors alone brings every sample the same light. Each camera ray bounces four
-// times between two mirrors (base colour 0.5) at 45 degrees before it meets the emitter,
-// so the throughput is below 1/7 when the roulette would first be played; with it, most
-// samples would be 0 and the rest several times the answer.
+// Russian roulette is not played after a delta event while the throughput is above 1/16
+// (path_rules::roulette_after): a path through mirrors alone brings every sample the same
+// light. Each camera ray bounces four times between two mirrors (base colour 0.6) at 45
+// degrees before it meets the emitter, so the throughput is about 0.2 when the roulette
+// would first be played; with it, about half of the samples would be 0 and the rest twice
+// the answer.
 TEST(PathTracer, NoRouletteAfterMirrorBounces) {
   Scene scene;
-  const std::uint32_t mirror = add_material(scene, test::mirror_material(glm::vec3(0.5f)));
+  const std::uint32_t mirror = add_material(scene, test::mirror_material(glm::vec3(0.6f)));
   append_quad(scene, {-10, 1, -100}, {8, 1, -100}, {8, 1, 100}, {-10, 1, 100}, mirror);
   append_quad(scene, {-10, -1, -100}, {8, -1, -100}, {8, -1, 100}, {-10, -1, 100}, mirror);
   Material emitter = black_emitter(1.0f);
@@ -138,8 +139,32 @@ TEST(PathTracer, NoRouletteAfterMirrorBounces) {
   // Along (1, 1, 0): mirrors met at x = 1, 3, 5 and 7, the emitter at x = 8.
   const PinholeCamera cam = PinholeCamera::look_at({0, 0, 0}, {1, 1, 0}, {0, 0, 1}, 0.02f, 8, 8);
   const ImageRGB image = render_path(scene, cam, 16);
-  const double c = 0.5, f = c + (1.0 - c) * std::pow(1.0 - std::sqrt(0.5), 5.0), expected = std::pow(f, 4.0);
+  const double c = 0.6, f = c + (1.0 - c) * std::pow(1.0 - std::sqrt(0.5), 5.0), expected = std::pow(f, 4.0);
   for (float v : image.rgb) ASSERT_NEAR(v, expected, 2e-3 * expected) << "every sample the same: " << expected;
+}
+
+// ... and once the throughput is below 1/16, it is: a path caught between two facing mirrors
+// of base colour 0.5 (nothing else in the scene) ends within a few bounces of that, not at
+// the bounce limit of 64. Without the roulette every camera ray would take 64 bounces.
+TEST(PathTracer, PathsBetweenDimMirrorsEndLongBeforeTheBounceLimit) {
+  Scene scene;
+  const std::uint32_t mirror = add_material(scene, test::mirror_material(glm::vec3(0.5f)));
+  append_quad(scene, {-100, 1, -100}, {100, 1, -100}, {100, 1, 100}, {-100, 1, 100}, mirror);
+  append_quad(scene, {-100, -1, -100}, {100, -1, -100}, {100, -1, 100}, {-100, -1, 100}, mirror);
+  const PinholeCamera cam = PinholeCamera::look_at({0, 0, 0}, {0.01f, 1, 0}, {0, 0, 1}, 0.02f, 8, 8);
+  const KdTree kd(scene.triangles);
+  RenderSettings s;
+  s.width = cam.width();
+  s.height = cam.height();
+  s.spp = 16;
+  s.integrator = IntegratorKind::Path;
+  s.max_depth = 64;
+  RenderStats stats;
+  render_image(scene, kd, cam, s, stats);
+  const double rays_per_sample = double(stats.rays) / double(stats.primary_rays);
+  // The throughput 0.5^k is below 1/16 from the fifth bounce on; each roulette then keeps
+  // at most a quarter of the paths.
+  EXPECT_LT(rays_per_sample, 12.0);
 }
 
 }  // namespace

@@ -1,5 +1,5 @@
-// The batch origin solver of ray_offset_batch.h, for one ISA: SurfaceOffset::solve's
-// attempts (ray_offset.h) for LANCER_OFFSET_LANES rays per vector, in GCC's vector
+// The batch origin solver of ray_offset_batch.h, for one ISA: SurfaceOffset's plane, start
+// and attempts (ray_offset.h) for LANCER_OFFSET_LANES rays per vector, in GCC's vector
 // extensions, which the TU's flags turn into that ISA's instructions.
 //
 // Every lane performs exactly the scalar solver's float and double operations, in its
@@ -7,8 +7,10 @@
 // its origins bit for bit: std::max(a, b) is a < b ? b : a, std::fabs clears the sign bit,
 // glm::abs is x >= 0 ? x : -x, glm::dot sums x, y, then z. A lane leaves the vector path,
 // to be solved by SurfaceOffset itself, wherever the scalar solver would leave its common
-// path: a direction it cannot use, a near tie between two axes (several shear
-// permutations), a bound near tangent or not finite, or more than kBatchAttempts tries.
+// path: a triangle without area (or a point that is not finite), a direction it cannot use,
+// a near tie between two axes (several shear permutations), a bound near tangent or not
+// finite, or more than kBatchAttempts tries. std::sqrt is correctly rounded, as each
+// lane's __builtin_sqrt is.
 //
 // ODR: everything here lives in lancer::LANCER_ISA and calls no inline function of
 // namespace lancer, glm or std (only builtins), so no copy built with this ISA's flags can

@@ -4,11 +4,13 @@
 // per hit (the continuation ray and a shadow ray); one at a time, the bound's double
 // arithmetic over three vertices and three edges was a sixth of a render.
 //
-// The split: generic code (ray_offset_batch.cpp) does each ray's start as SurfaceOffset::solve
-// does it (the side, the deficit, the first height) and lays the rays out as lanes; the ISA
-// solver runs the attempts for every lane that stays on the common path (one shear
-// permutation, a bound that is finite and not near tangent, at most kBatchAttempts tries);
-// every other lane is left to SurfaceOffset itself, which then gives the same answer.
+// The split: generic code (ray_offset_batch.cpp) lays each ray out as a lane (its triangle,
+// point, normal and target; a triangle drawn through an instance is solved at once); the ISA
+// solver makes each lane's plane and start as SurfaceOffset's make_plane() and start() do
+// (the side, the deficit, the first height), then runs the attempts for every lane that
+// stays on the common path (a triangle with area, one shear permutation, a bound that is
+// finite and not near tangent, at most kBatchAttempts tries); every other lane is left to
+// SurfaceOffset itself, which then gives the same answer.
 #pragma once
 
 #include <cstdint>

@@ -88,6 +88,19 @@ class BounceChance {
   float u_roulette_ = -1.0f;  // not drawn yet
 };
 
+// The Russian roulette after scattering event `bounces` (roulette_after), played with
+// `chance`, `throughput` being max_component(beta) relative to where the path started:
+// false when the path ends here; else true, with beta divided by its survival probability
+// where the roulette was played. The one roulette step of every integrator.
+inline bool survives_roulette(int bounces, bool delta, float throughput, const BounceChance& chance,
+                              glm::vec3& beta) {
+  if (!roulette_after(bounces, delta, throughput)) return true;
+  const float survive = survival(throughput);
+  if (chance.roulette() >= survive) return false;
+  beta /= survive;
+  return true;
+}
+
 // Veach's power heuristic with beta = 2, the weight of the strategy with density `a`.
 inline float power_heuristic(float a, float b) {
   if (!(a > 0.0f)) return 0.0f;

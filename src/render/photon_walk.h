@@ -70,8 +70,7 @@ template <class Visit>
 void walk_photon(const Scene& scene, const Accelerator& accel, const LightEmission& emission, std::uint64_t index,
                  std::uint32_t stream_y, std::uint64_t seed, float power_scale, std::uint64_t& rays, Visit&& visit) {
   using namespace photon_walk;
-  using path_rules::is_black, path_rules::is_finite, path_rules::max_component, path_rules::survival;
-  using path_rules::roulette_after;
+  using path_rules::is_black, path_rules::is_finite, path_rules::max_component;
   SobolSampler sampler(static_cast<std::uint32_t>(index >> 32), stream_y, static_cast<std::uint32_t>(index), seed);
   const EmittedPhoton emitted = emission.sample(sampler.get1(kEmitPickDimension), sampler.get2(kEmitPositionDimensions),
                                                 sampler.get2(kEmitDirectionDimensions));
@@ -143,11 +142,7 @@ void walk_photon(const Scene& scene, const Accelerator& accel, const LightEmissi
     if (is_black(beta) || !is_finite(beta)) return;
     if (bs->transmitted && !si.thin_walled) in_volume = si.front_face && volume_absorption(si, sigma_a);
     crossings = 0;
-    if (roulette_after(++bounces, bs->delta, max_component(beta) / start_power)) {
-      const float survive = survival(max_component(beta) / start_power);
-      if (chance.roulette() >= survive) return;
-      beta /= survive;
-    }
+    if (!path_rules::survives_roulette(++bounces, bs->delta, max_component(beta) / start_power, chance, beta)) return;
     ray = leaving_ray(scene, si, b);
   }
 }

@@ -145,11 +145,7 @@ SppmIntegrator::CameraPath SppmIntegrator::camera_path(const Ray& camera_ray, co
     if (bs->transmitted && !si.thin_walled) in_volume = si.front_face && volume_absorption(si, sigma_a);
     travelled = 0.0f;
     crossings = 0;
-    if (roulette_after(++bounces, bs->delta, max_component(beta))) {
-      const float survive = survival(max_component(beta));
-      if (chance.roulette() >= survive) break;
-      beta /= survive;
-    }
+    if (!survives_roulette(++bounces, bs->delta, max_component(beta), chance, beta)) break;
     ray = leaving_ray(scene_, si, bs->wi);
     ++rays;
     hit = accel_.intersect(ray);

@@ -6,6 +6,7 @@
 #include <glm/geometric.hpp>
 
 #include "render/bsdf_base.h"
+#include "render/turn.h"
 
 namespace lancer {
 namespace {
@@ -53,8 +54,8 @@ DiffuseLobe::DiffuseLobe(const BaseFresnel& mix)
 
 glm::vec3 DiffuseLobe::sample(glm::vec2 u) {
   const float r = std::sqrt(u.x);
-  const float phi = 2.0f * std::numbers::pi_v<float> * u.y;
-  return {r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0f, 1.0f - u.x))};
+  const glm::vec2 cs = turn_cos_sin(u.y);
+  return {r * cs.x, r * cs.y, std::sqrt(std::max(0.0f, 1.0f - u.x))};
 }
 
 // ---- ReflectionLobe --------------------------------------------------------------------

@@ -8,6 +8,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "render/turn.h"
+
 namespace lancer {
 namespace {
 
@@ -145,8 +147,8 @@ std::optional<glm::vec3> SheenLobe::sample(const glm::vec3& /*wo*/, glm::vec2 u)
   // Uniform over the hemisphere: z = u.x, density 1 / (2 pi).
   const float z = u.x;
   const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
-  const float phi = 2.0f * kPi * u.y;
-  return glm::vec3(r * std::cos(phi), r * std::sin(phi), z);
+  const glm::vec2 cs = turn_cos_sin(u.y);
+  return glm::vec3(r * cs.x, r * cs.y, z);
 }
 
 // ---- Clearcoat (KHR_materials_clearcoat) -------------------------------------------------

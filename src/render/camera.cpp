@@ -7,6 +7,8 @@
 
 #include <glm/geometric.hpp>
 
+#include "render/turn.h"
+
 namespace lancer {
 
 PinholeCamera PinholeCamera::look_at(const glm::vec3& eye, const glm::vec3& target, const glm::vec3& up,
@@ -118,16 +120,16 @@ glm::vec2 concentric_disk(glm::vec2 u) {
   if (a == 0.0f && b == 0.0f) return {0.0f, 0.0f};
   // The square's four triangular quarters go to the disk's four quarter sectors; the
   // radius is the larger coordinate, the angle linear along each square ring.
-  constexpr float kQuarterPi = std::numbers::pi_v<float> / 4.0f;
-  float r, phi;
+  // The angle in turns: an eighth of a turn per unit of b / a.
+  float r, turns;
   if (std::abs(a) > std::abs(b)) {
     r = a;
-    phi = kQuarterPi * (b / a);
+    turns = 0.125f * (b / a);
   } else {
     r = b;
-    phi = 2.0f * kQuarterPi - kQuarterPi * (a / b);
+    turns = 0.25f - 0.125f * (a / b);
   }
-  return {r * std::cos(phi), r * std::sin(phi)};
+  return r * turn_cos_sin(turns);
 }
 
 void PinholeCamera::set_motion(const std::vector<MotionKey>& keys) {

@@ -10,6 +10,7 @@
 #include "render/sobol_sampler.h"
 #include "render/shading_inputs.h"
 #include "render/surface.h"
+#include "render/turn.h"
 #include "simd/splitmix64.h"
 
 namespace lancer {
@@ -59,8 +60,9 @@ glm::vec3 ambient_occlusion(const Scene& scene, const Accelerator& accel, const 
   for (int k = 0; k < kAoRays; ++k) {
     // Cosine-weighted (Malley's method: uniform on the disk, lifted to the hemisphere).
     const glm::vec2 u = sampler.next2();
-    const float r = std::sqrt(u.x), phi = 6.2831853f * u.y;
-    const glm::vec3 local(r * std::cos(phi), r * std::sin(phi), std::sqrt(std::max(0.0f, 1.0f - r * r)));
+    const float r = std::sqrt(u.x);
+    const glm::vec2 cs = turn_cos_sin(u.y);
+    const glm::vec3 local(r * cs.x, r * cs.y, std::sqrt(std::max(0.0f, 1.0f - r * r)));
     Ray probe;
     probe.org = origin;
     probe.dir = frame.to_world(local);

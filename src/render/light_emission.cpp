@@ -12,13 +12,13 @@
 #include "render/drawn_triangle.h"
 #include "render/light_sampling.h"
 #include "render/ray_sets.h"
+#include "render/turn.h"
 
 namespace lancer {
 
 namespace {
 
 constexpr double kPi = std::numbers::pi;
-constexpr float kPiF = std::numbers::pi_v<float>;
 
 // The largest float below 1: where a remapped uniform must stay.
 constexpr float kOneMinusEpsilon = 0x1.fffffep-1f;
@@ -32,8 +32,8 @@ bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y
 glm::vec3 uniform_sphere(glm::vec2 u) {
   const float z = 1.0f - 2.0f * u.x;
   const float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
-  const float phi = 2.0f * kPiF * u.y;
-  return {r * std::cos(phi), r * std::sin(phi), z};
+  const glm::vec2 cs = turn_cos_sin(u.y);
+  return {r * cs.x, r * cs.y, z};
 }
 
 // A photon's power from its radiance (or intensity) and the inverse of its densities, or
@@ -203,8 +203,8 @@ EmittedPhoton LightEmission::sample_punctual(const Emitter& e, glm::vec2 u_dir, 
   // [1 - one_minus_cos, 1]; sin^2 = (1 - cos)(1 + cos) keeps small cones accurate.
   const float one_minus_cos = u_dir.x * e.one_minus_cos;
   const float sin_theta = std::sqrt(std::max(0.0f, one_minus_cos * (2.0f - one_minus_cos)));
-  const float phi = 2.0f * kPiF * u_dir.y;
-  const glm::vec3 local(sin_theta * std::cos(phi), sin_theta * std::sin(phi), 1.0f - one_minus_cos);
+  const glm::vec2 cs = turn_cos_sin(u_dir.y);
+  const glm::vec3 local(sin_theta * cs.x, sin_theta * cs.y, 1.0f - one_minus_cos);
   photon.ray.dir = glm::normalize(ShadingFrame::from_normal(e.axis).to_world(local));
   // The very falloff illuminate() applies toward this direction.
   const float falloff = spot_falloff(light, photon.ray.dir);
@@ -219,9 +219,9 @@ EmittedPhoton LightEmission::sample_distant(const glm::vec3& dir, const glm::vec
   EmittedPhoton photon;
   const ShadingFrame frame = ShadingFrame::from_normal(dir);
   const float r = radius_ * std::sqrt(u_pos.x);
-  const float phi = 2.0f * kPiF * u_pos.y;
+  const glm::vec2 cs = turn_cos_sin(u_pos.y);
   photon.ray.dir = dir;
-  photon.ray.org = center_ - radius_ * dir + frame.to_world(glm::vec3(r * std::cos(phi), r * std::sin(phi), 0.0f));
+  photon.ray.org = center_ - radius_ * dir + frame.to_world(glm::vec3(r * cs.x, r * cs.y, 0.0f));
   set_power(photon, radiance_over_pdf, kPi * double(radius_) * double(radius_) / p_pick);
   return photon;
 }

@@ -3,9 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <numbers>
 
 #include <glm/geometric.hpp>
+
+#include "render/turn.h"
 
 namespace lancer {
 
@@ -26,9 +27,9 @@ glm::vec3 GgxDistribution::sample_visible(const glm::vec3& wo, glm::vec2 u) cons
   const glm::vec3 t2 = glm::cross(v, t1);
   // A uniform point on the unit disk perpendicular to v ...
   const float r = std::sqrt(u.x);
-  const float phi = 2.0f * std::numbers::pi_v<float> * u.y;
-  const float p1 = r * std::cos(phi);
-  float p2 = r * std::sin(phi);
+  const glm::vec2 cs = turn_cos_sin(u.y);
+  const float p1 = r * cs.x;
+  float p2 = r * cs.y;
   // ... warped so that its density matches the projected area of the visible hemisphere:
   // the half of the disk that is partly hidden shrinks by (1 + v.z) / 2.
   const float s = 0.5f * (1.0f + v.z);

@@ -225,7 +225,7 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
   // the ray cannot hit it again, for each ray's exact direction (ray_offset.h), solved for
   // the whole bounce at once (solve_origins_of_bounce).
   auto leave = [&] {
-    scratch.leaves.push_back(leaving_offset(scene_, si));
+    add_leaving_offset(scratch.leaves, scene_, si);
     return static_cast<std::uint32_t>(scratch.leaves.size() - 1);
   };
   auto go_on = [&](const glm::vec3& next_dir, std::uint32_t from) {

@@ -252,6 +252,7 @@ ImageRGB render_distributed(Channel& channel, const SampleRenderer& renderer, co
       std::count_if(state.count.begin(), state.count.end(), [least](std::uint32_t c) { return c > least; }));
   stats.rays = rays;
   stats.primary_rays = primary_rays;
+  stats.setup_rays = renderer.setup_rays();
   stats.primary_seconds = primary_seconds;
   stats.path_batches = renderer.path_batches();
   ImageRGB image = state.mean();

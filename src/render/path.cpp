@@ -41,13 +41,15 @@ glm::vec3 PathIntegrator::radiance_from_hit(const Ray& ray, const Hit& hit, Sobo
 }
 
 void PathIntegrator::radiance_block(const Ray* rays, const Hit* hits, SobolSampler* samplers, int count,
-                                    glm::vec3* radiance, std::uint64_t& ray_count, Scratch& scratch) const {
+                                    glm::vec3* radiance, std::uint64_t& ray_count, Scratch& scratch,
+                                    const bool* emission_apart) const {
   scratch.paths.assign(static_cast<std::size_t>(count), Path{});
   scratch.live.clear();
   scratch.rays.clear();
   scratch.hits.clear();
   for (int i = 0; i < count; ++i) {
     scratch.paths[static_cast<std::size_t>(i)].sampler = &samplers[i];
+    scratch.paths[static_cast<std::size_t>(i)].emission_apart = emission_apart && emission_apart[i];
     scratch.live.push_back(i);
     scratch.rays.push_back(rays[i]);
     scratch.hits.push_back(hits[i]);
@@ -204,6 +206,9 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
   SobolSampler& sampler = *path.sampler;
   glm::vec3& L = path.L;
   glm::vec3& beta = path.beta;
+  // Only the first surface's emission may be estimated apart (render/camera_emission.h).
+  const bool emission_apart = path.emission_apart;
+  path.emission_apart = false;
   const float dir_length = glm::length(ray.dir);
   const glm::vec3 dir = ray.dir / dir_length;
   // Light reached through delta bounces after a non-delta one: the caustic map's.
@@ -248,7 +253,10 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
     return true;
   }
 
-  if (emits_toward(*si.material, si.front_face) && !is_black(si.emission) && !caustic) {
+  // An opaque first surface's emission comes from CameraEmission's rays instead; one of
+  // coverage below 1 (which this path passed or stopped at by chance) from this path alone.
+  const bool seen_apart = emission_apart && si.alpha >= 1.0f;
+  if (emits_toward(*si.material, si.front_face) && !is_black(si.emission) && !caustic && !seen_apart) {
     float w = 1.0f;
     if (!path.prev_delta) {
       const float pdf_area = area_lights_.pdf_area(hit.prim, hit.instance);

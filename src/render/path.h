@@ -62,8 +62,11 @@ class PathIntegrator {
   // GPU-wide queue). radiance[i] is the radiance arriving along -rays[i].dir; each path
   // draws from samplers[i] only, so it is the same whatever the wavefront holds.
   // `ray_count` is increased by every ray traced here (not the camera rays).
+  // emission_apart (null: none): per ray, whether the emission it meets at its first
+  // surface, where that surface is opaque (coverage 1), is estimated elsewhere
+  // (render/camera_emission.h) and left out here.
   void radiance_block(const Ray* rays, const Hit* hits, SobolSampler* samplers, int count, glm::vec3* radiance,
-                      std::uint64_t& ray_count, Scratch& scratch) const;
+                      std::uint64_t& ray_count, Scratch& scratch, const bool* emission_apart = nullptr) const;
 
   // One path: radiance_block of a block of one.
   glm::vec3 radiance_from_hit(const Ray& ray, const Hit& hit, SobolSampler& sampler, std::uint64_t& rays) const;
@@ -112,6 +115,7 @@ struct PathIntegrator::Path {
   bool scattered = false;  // some BSDF sample so far was of a non-delta lobe
   bool in_volume = false;
   glm::vec3 sigma_a{0.0f};
+  bool emission_apart = false;  // until the first surface: radiance_block's emission_apart
   SobolSampler* sampler = nullptr;
 };
 

@@ -35,8 +35,23 @@ void PrimaryBlock::generate(const PinholeCamera& camera, const PixelFilter& filt
   add(camera, filter, block, sample, seed);
 }
 
+Ray camera_ray(const PinholeCamera& camera, const PixelFilter& filter, int x, int y, SobolSampler& sampler) {
+  const glm::vec2 offset = filter.sample_offset(sampler.next2());
+  // The lens position, computed only for a thin lens (a pinhole ignores it).
+  const glm::vec2 lens = camera.aperture_radius() > 0.0f ? sampler.get2(sampler.dimension()) : glm::vec2(0.0f);
+  sampler.skip(2);
+  Ray ray = camera.generate(static_cast<float>(x) + 0.5f + offset.x, static_cast<float>(y) + 0.5f + offset.y, lens);
+  // The shutter time, one more dimension only when the shutter is open: every other
+  // render keeps its samples.
+  if (camera.shutter_open()) {
+    ray.time = sampler.next1();
+    ray = camera.moved(ray);
+  }
+  return ray;
+}
+
 void PrimaryBlock::add(const PinholeCamera& camera, const PixelFilter& filter, const PixelBlock& block, int sample,
-                       std::uint64_t seed) {
+                       std::uint64_t seed, bool emission_apart) {
   check_block(block);
   if (blocks_ == kWavefrontBlocks)
     throw std::invalid_argument("primary block: more than " + std::to_string(kWavefrontBlocks) + " blocks");
@@ -45,18 +60,8 @@ void PrimaryBlock::add(const PinholeCamera& camera, const PixelFilter& filter, c
     for (int x = block.x0; x < block.x1; ++x) {
       SobolSampler& sampler = sobol_.emplace_back(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y),
                                                   static_cast<std::uint32_t>(sample), seed);
-      const glm::vec2 offset = filter.sample_offset(sampler.next2());
-      // The lens position, computed only for a thin lens (a pinhole ignores it).
-      const glm::vec2 lens = camera.aperture_radius() > 0.0f ? sampler.get2(sampler.dimension()) : glm::vec2(0.0f);
-      sampler.skip(2);
-      Ray& ray = rays_[static_cast<std::size_t>(count_++)];
-      ray = camera.generate(static_cast<float>(x) + 0.5f + offset.x, static_cast<float>(y) + 0.5f + offset.y, lens);
-      // The shutter time, one more dimension only when the shutter is open: every other
-      // render keeps its samples.
-      if (camera.shutter_open()) {
-        ray.time = sampler.next1();
-        ray = camera.moved(ray);
-      }
+      apart_[static_cast<std::size_t>(count_)] = emission_apart;
+      rays_[static_cast<std::size_t>(count_++)] = camera_ray(camera, filter, x, y, sampler);
     }
   }
   starts_[static_cast<std::size_t>(++blocks_)] = count_;

@@ -46,22 +46,28 @@ struct PixelBlock {
 // its sides are not multiples of kBlockSide, the last column and row of blocks are smaller.
 std::vector<PixelBlock> make_blocks(const Tile& tile);
 
+// The camera ray of sample `sampler` (made for pixel (x, y)) in that pixel, as every
+// integrator's camera rays are made: the sampler's first two dimensions place it in the
+// pixel by the filter (filter importance sampling: every sample weighs 1; the box filter
+// jitters over the pixel's area), the next two on the lens, and when the camera's shutter
+// is open one more gives the ray's time. The sampler is left past those dimensions.
+Ray camera_ray(const PinholeCamera& camera, const PixelFilter& filter, int x, int y, SobolSampler& sampler);
+
 class PrimaryBlock {
  public:
   PrimaryBlock() { sobol_.reserve(kWavefrontPixels); }
 
   // The camera rays of sample `sample` of every pixel of `block` (at most kBlockPixels),
-  // row-major in the block, for every integrator: one SobolSampler per pixel, whose first
-  // two dimensions place the sample in the pixel by the filter (filter importance sampling:
-  // every sample weighs 1; the box filter jitters over the pixel's area) and the next two on
-  // the lens, and when the camera's shutter is open one more to the ray's time; the sampler
-  // then stays with the pixel for shading. Throws
+  // row-major in the block, for every integrator: one SobolSampler per pixel, seeded by
+  // (x, y, sample, seed), makes its camera_ray and then stays with the pixel for shading.
+  // `emission_apart`: the block's directly seen emission is estimated by CameraEmission
+  // (render/camera_emission.h), not by these paths. Throws
   // std::invalid_argument for an empty or too large block. generate() starts afresh with
   // this block; add() appends it after the blocks already there (at most kWavefrontBlocks).
   void generate(const PinholeCamera& camera, const PixelFilter& filter, const PixelBlock& block, int sample,
                 std::uint64_t seed);
   void add(const PinholeCamera& camera, const PixelFilter& filter, const PixelBlock& block, int sample,
-           std::uint64_t seed);
+           std::uint64_t seed, bool emission_apart = false);
   void clear();
 
   // Closest hits of all the rays: one Accelerator::intersect_packet call per block (Packet)
@@ -80,11 +86,14 @@ class PrimaryBlock {
   const Ray* rays() const { return rays_.data(); }
   const Hit* hits() const { return hits_.data(); }
   SobolSampler* samplers() { return sobol_.data(); }
+  // Per ray: its block's emission_apart.
+  const bool* emission_apart() const { return apart_.data(); }
 
  private:
   std::vector<SobolSampler> sobol_;  // rebuilt in place per sample
   std::array<Ray, kWavefrontPixels> rays_{};
   std::array<Hit, kWavefrontPixels> hits_{};
+  std::array<bool, kWavefrontPixels> apart_{};
   std::array<int, kWavefrontBlocks + 1> starts_{};
   int blocks_ = 0;
   int count_ = 0;

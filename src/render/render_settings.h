@@ -52,6 +52,10 @@ struct RenderSettings {
   int caustic_k = 0;
   float caustic_radius = 0.0f;
   TraceMode mode = TraceMode::Packet;  // primary rays only; secondary rays are always single
+  // path, photon: camera rays per pixel sample that estimate the emission seen directly,
+  // where a block of pixels sees an emitter (render/camera_emission.h); 0: the path's own
+  // camera ray alone. Not a command-line option: the tests compare against 0.
+  int emitter_samples = 4;
 };
 
 // How the path tracer's rays went in batches (one of each kind per bounce of a block), summed.
@@ -63,10 +67,13 @@ struct PathBatchStats {
   // Rays traced one by one after a blocked shadow ray, through the surfaces that cover
   // only part of it (render/coverage.h: cut-outs, BLEND, culled back faces).
   std::uint64_t crossing_rays = 0;
+  // Camera rays that estimated the emission seen directly (render/camera_emission.h).
+  std::uint64_t emission_rays = 0;
   PathBatchStats& operator+=(const PathBatchStats& o) {
     continuation_batches += o.continuation_batches, continuation_rays += o.continuation_rays;
     packet_rays += o.packet_rays, shadow_batches += o.shadow_batches, shadow_rays += o.shadow_rays;
     shadow_packet_rays += o.shadow_packet_rays, crossing_rays += o.crossing_rays;
+    emission_rays += o.emission_rays;
     return *this;
   }
 };
@@ -80,6 +87,8 @@ struct RenderStats {
   std::uint32_t min_spp = 0, max_spp = 0;  // samples the pixels got (differ only when stopped mid-pass)
   std::size_t pixels_past_min_spp = 0;     // pixels with more than min_spp samples
   std::uint64_t primary_rays = 0;  // camera rays: width * height * spp
+  // Traced before the first sample: the caustic photons, the blocks that show emitters.
+  std::uint64_t setup_rays = 0;
   // Thread-seconds spent inside the primary-ray tracing calls only, summed over threads.
   double primary_seconds = 0.0;
   PathBatchStats path_batches;  // the path tracer's only

@@ -165,6 +165,7 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
   stats.rays = total_rays.load();
   stats.path_batches = sampler.path_batches();
   stats.primary_rays = total_primary_rays.load();
+  stats.setup_rays = sampler.setup_rays();
   stats.primary_seconds = std::chrono::duration<double>(Clock::duration(total_primary_ticks.load())).count();
   ImageRGB image = state.mean();
   stats.seconds = std::chrono::duration<double>(Clock::now() - start).count();

@@ -8,6 +8,7 @@
 
 #include <tbb/enumerable_thread_specific.h>
 
+#include "render/camera_emission.h"
 #include "render/caustic_map.h"
 #include "render/coverage.h"
 #include "render/debug_integrators.h"
@@ -32,10 +33,12 @@ struct SampleRenderer::Impl {
   std::optional<PathIntegrator> path;
   std::optional<WhittedIntegrator> whitted;
   PixelFilter filter;
+  std::optional<CameraEmission> camera_emission;  // path and photon, where emitters show
   // Per thread, reused from wavefront to wavefront: its camera rays and the path tracer's
   // scratch, so the render loop allocates nothing once warm.
   mutable tbb::enumerable_thread_specific<PrimaryBlock> primary_blocks;
   mutable tbb::enumerable_thread_specific<PathIntegrator::Scratch> path_scratch;
+  mutable tbb::enumerable_thread_specific<CameraEmission::Scratch> emission_scratch;
 
   Impl(const Scene& sc, const Accelerator& ac, const PinholeCamera& cam, const RenderSettings& s, TileRunner& runner)
       : scene(sc), accel(ac), camera(cam), settings(s),
@@ -62,6 +65,8 @@ struct SampleRenderer::Impl {
       path.emplace(scene, accel, *area_lights, s.environment, s.max_depth, s.light_samples,
                    caustics ? &*caustics : nullptr);
     if (s.integrator == IntegratorKind::Whitted) whitted.emplace(scene, accel, *area_lights, s.max_depth, s.light_samples);
+    if (traces_paths && s.emitter_samples > 0)
+      camera_emission.emplace(scene, accel, camera, filter, s.width, s.height, s.emitter_samples, runner);
     see_through = scene_has_coverage(scene);
   }
 
@@ -70,7 +75,8 @@ struct SampleRenderer::Impl {
   void shade(PrimaryBlock& primary, glm::vec3* L, std::uint64_t& rays) const {
     const int n = primary.size();
     if (traces_paths) {
-      path->radiance_block(primary.rays(), primary.hits(), primary.samplers(), n, L, rays, path_scratch.local());
+      path->radiance_block(primary.rays(), primary.hits(), primary.samplers(), n, L, rays, path_scratch.local(),
+                           primary.emission_apart());
       return;
     }
     for (int i = 0; i < n; ++i) {
@@ -114,18 +120,34 @@ bool SampleRenderer::render_tile(const Tile& tile, int sample, const BlockWanted
       if (wanted(blocks[b])) chosen[n++] = b;
     if (n == 0) continue;
     primary.clear();
-    for (std::size_t k = 0; k < n; ++k) primary.add(im.camera, im.filter, blocks[chosen[k]], sample, im.settings.seed);
+    std::array<bool, kWavefrontBlocks> apart{};
+    for (std::size_t k = 0; k < n; ++k) {
+      apart[k] = im.camera_emission && im.camera_emission->covers(blocks[chosen[k]]);
+      primary.add(im.camera, im.filter, blocks[chosen[k]], sample, im.settings.seed, apart[k]);
+    }
     counters.primary_time += primary.trace(im.accel, im.settings.mode);
     counters.primary_rays += static_cast<std::uint64_t>(primary.size());
     rays += static_cast<std::uint64_t>(primary.size());
     im.shade(primary, L.data(), rays);
+    for (std::size_t k = 0; k < n; ++k) {
+      if (!apart[k]) continue;
+      std::uint64_t emission_rays = 0;
+      im.camera_emission->add(blocks[chosen[k]], sample, im.settings.seed, im.settings.mode,
+                              L.data() + primary.block_start(static_cast<int>(k)), emission_rays,
+                              im.emission_scratch.local());
+      rays += emission_rays;
+      im.path_scratch.local().stats.emission_rays += emission_rays;
+    }
     for (std::size_t k = 0; k < n; ++k) take(blocks[chosen[k]], L.data() + primary.block_start(static_cast<int>(k)));
   }
   counters.rays += rays;
   return true;
 }
 
-std::uint64_t SampleRenderer::setup_rays() const { return impl_->caustics ? impl_->caustics->rays() : 0; }
+std::uint64_t SampleRenderer::setup_rays() const {
+  return (impl_->caustics ? impl_->caustics->rays() : 0) +
+         (impl_->camera_emission ? impl_->camera_emission->setup_rays() : 0);
+}
 
 PathBatchStats SampleRenderer::path_batches() const {
   PathBatchStats total{};

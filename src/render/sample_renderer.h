@@ -53,7 +53,8 @@ class SampleRenderer {
   bool render_tile(const Tile& tile, int sample, const BlockWanted& wanted, const BlockTaken& take,
                    const StopCheck& stop, Counters& counters) const;
 
-  // Rays traced while setting up (the caustic photons), not in any Counters.
+  // Rays traced while setting up (the caustic photons, the blocks that show emitters), not
+  // in any Counters.
   std::uint64_t setup_rays() const;
   // The path tracer's batch counts, summed over every thread so far.
   PathBatchStats path_batches() const;

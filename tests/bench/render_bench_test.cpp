@@ -63,7 +63,11 @@ TEST(RayRecorder, RecordsEveryRayTheRenderTraces) {
       closest += c.kind == RecordedCall::Kind::Closest;
       any += c.kind == RecordedCall::Kind::Any;
     }
-    EXPECT_EQ(packet_rays, recorded.primary_rays + recorded.path_batches.packet_rays);
+    // Camera rays, the coherent continuation batches, and the emission estimate's camera
+    // rays (render/camera_emission.h: the light shows in this image).
+    EXPECT_GT(recorded.path_batches.emission_rays, 0u);
+    EXPECT_EQ(packet_rays,
+              recorded.primary_rays + recorded.path_batches.packet_rays + recorded.path_batches.emission_rays);
     EXPECT_EQ(any_packet_rays, recorded.path_batches.shadow_packet_rays);
     EXPECT_GT(any_packet_rays, 0u);
     EXPECT_GT(closest, 0u);

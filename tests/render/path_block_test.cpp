@@ -70,7 +70,12 @@ TEST(PathBlock, BatchCountsAddUpToTheRaysTraced) {
   RenderStats stats;
   render_image(scene, kd, camera, s, stats);
   const PathBatchStats& b = stats.path_batches;
-  EXPECT_EQ(stats.primary_rays + b.continuation_rays + b.shadow_rays + b.crossing_rays, stats.rays);
+  EXPECT_EQ(stats.setup_rays + stats.primary_rays + b.continuation_rays + b.shadow_rays + b.crossing_rays +
+                b.emission_rays,
+            stats.rays);
+  // The light shows: its blocks were found, and their samples traced the emission's own rays.
+  EXPECT_GT(stats.setup_rays, 0u);
+  EXPECT_GT(b.emission_rays, 0u);
   EXPECT_GT(b.shadow_batches, 0u);
   // One batch per bounce of a wavefront (a 16x16 tile: four blocks): at least one and at
   // most max_depth per wavefront and pass.

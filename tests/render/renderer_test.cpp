@@ -163,8 +163,10 @@ TEST(Renderer, JitterCoversThePixelAndBoxFilters) {
   EXPECT_EQ(img.at(4, 1), glm::vec3(1.0f));
   // Binomial: standard deviation 0.5 / 32 = 0.016; allow 4 sigma.
   EXPECT_NEAR(img.at(2, 1).x, 0.5f, 0.063f);
-  // One sample per pixel still jitters: the centre column is 0 or 1 depending on the seed.
+  // One sample per pixel still jitters: with the path's own camera ray alone (no emission
+  // estimate apart, render/camera_emission.h) the centre column is 0 or 1 depending on the seed.
   s.spp = 1;
+  s.emitter_samples = 0;
   int lit = 0;
   for (std::uint64_t seed = 0; seed < 40; ++seed) {
     s.seed = seed;
@@ -172,6 +174,13 @@ TEST(Renderer, JitterCoversThePixelAndBoxFilters) {
   }
   EXPECT_GT(lit, 5);
   EXPECT_LT(lit, 35);
+  // The emission estimate's four rays of a sample are one Sobol' net of four points, one in
+  // each quarter of the pixel's width: two see the emitter, whatever the seed.
+  s.emitter_samples = 4;
+  for (std::uint64_t seed = 0; seed < 10; ++seed) {
+    s.seed = seed;
+    EXPECT_EQ(render_image(scene, accel, cam, s, stats).at(2, 1).x, 0.5f) << "seed " << seed;
+  }
 }
 
 }  // namespace

@@ -64,10 +64,12 @@ TEST(RayRecorder, RecordsEveryRayTheRenderTraces) {
       any += c.kind == RecordedCall::Kind::Any;
     }
     // Camera rays, the coherent continuation batches, and the emission estimate's camera
-    // rays (render/camera_emission.h: the light shows in this image).
+    // rays with the lattice that found its blocks (render/camera_emission.h: the light
+    // shows in this image; a path render has no other setup rays).
     EXPECT_GT(recorded.path_batches.emission_rays, 0u);
-    EXPECT_EQ(packet_rays,
-              recorded.primary_rays + recorded.path_batches.packet_rays + recorded.path_batches.emission_rays);
+    EXPECT_GT(recorded.setup_rays, 0u);
+    EXPECT_EQ(packet_rays, recorded.primary_rays + recorded.path_batches.packet_rays +
+                               recorded.path_batches.emission_rays + recorded.setup_rays);
     EXPECT_EQ(any_packet_rays, recorded.path_batches.shadow_packet_rays);
     EXPECT_GT(any_packet_rays, 0u);
     EXPECT_GT(closest, 0u);

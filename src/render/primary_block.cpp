@@ -30,9 +30,9 @@ void PrimaryBlock::clear() {
 }
 
 void PrimaryBlock::generate(const PinholeCamera& camera, const PixelFilter& filter, const PixelBlock& block,
-                            int sample, std::uint64_t seed) {
+                            int sample, std::uint64_t seed, bool emission_apart) {
   clear();
-  add(camera, filter, block, sample, seed);
+  add(camera, filter, block, sample, seed, emission_apart);
 }
 
 Ray camera_ray(const PinholeCamera& camera, const PixelFilter& filter, int x, int y, SobolSampler& sampler) {

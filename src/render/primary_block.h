@@ -65,7 +65,7 @@ class PrimaryBlock {
   // std::invalid_argument for an empty or too large block. generate() starts afresh with
   // this block; add() appends it after the blocks already there (at most kWavefrontBlocks).
   void generate(const PinholeCamera& camera, const PixelFilter& filter, const PixelBlock& block, int sample,
-                std::uint64_t seed);
+                std::uint64_t seed, bool emission_apart = false);
   void add(const PinholeCamera& camera, const PixelFilter& filter, const PixelBlock& block, int sample,
            std::uint64_t seed, bool emission_apart = false);
   void clear();

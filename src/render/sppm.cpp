@@ -39,7 +39,8 @@ SppmIntegrator::SppmIntegrator(const Scene& scene, const Accelerator& accel, con
       has_coverage_(scene_has_coverage(scene)) {}
 
 SppmIntegrator::CameraPath SppmIntegrator::camera_path(const Ray& camera_ray, const Hit& camera_hit,
-                                                       SobolSampler& sampler, std::uint64_t& rays) const {
+                                                       SobolSampler& sampler, std::uint64_t& rays,
+                                                       bool emission_apart) const {
   CameraPath result;
   glm::vec3& L = result.L;
   glm::vec3 beta(1.0f);
@@ -65,6 +66,9 @@ SppmIntegrator::CameraPath SppmIntegrator::camera_path(const Ray& camera_ray, co
     const float segment = hit.t * dir_length;
     if (in_volume) beta *= glm::exp(-sigma_a * segment);
     const ShadingInputs si = evaluate_shading(scene_, ray, hit);
+    // As path.cpp: only the first surface's emission may be estimated apart.
+    const bool first_surface = emission_apart;
+    emission_apart = false;
     const std::uint32_t dims = sampler.dimension();
     sampler.skip(bounce_dimensions(light_samples_));
 
@@ -80,7 +84,8 @@ SppmIntegrator::CameraPath SppmIntegrator::camera_path(const Ray& camera_ray, co
     }
     distance += segment;
 
-    if (emits_toward(*si.material, si.front_face) && !is_black(si.emission)) {
+    const bool seen_apart = first_surface && si.alpha >= 1.0f;
+    if (emits_toward(*si.material, si.front_face) && !is_black(si.emission) && !seen_apart) {
       float w = 1.0f;
       if (!prev_delta) {
         const float pdf_area = area_lights_.pdf_area(hit.prim, hit.instance);

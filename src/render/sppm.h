@@ -63,8 +63,10 @@ class SppmIntegrator {
     VisiblePoint vp;
   };
   // The camera path of `ray`, whose closest hit is `hit`, drawing from `sampler` only.
-  // `rays` is increased by every ray traced here.
-  CameraPath camera_path(const Ray& ray, const Hit& hit, SobolSampler& sampler, std::uint64_t& rays) const;
+  // `rays` is increased by every ray traced here. emission_apart: the emission met at an
+  // opaque first surface is estimated elsewhere (render/camera_emission.h) and left out.
+  CameraPath camera_path(const Ray& ray, const Hit& hit, SobolSampler& sampler, std::uint64_t& rays,
+                         bool emission_apart = false) const;
 
   // Photon number `index` of the render (counting over all iterations), from its own sampler
   // stream: appends the photons it leaves to `out`.

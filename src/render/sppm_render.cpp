@@ -1,14 +1,17 @@
 #include "render/sppm_render.h"
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <vector>
 
 #include <glm/geometric.hpp>
 #include <tbb/enumerable_thread_specific.h>
 
+#include "render/camera_emission.h"
 #include "render/light_emission.h"
 #include "render/lights.h"
 #include "render/pixel_filter.h"
@@ -89,6 +92,15 @@ ImageRGB render_sppm(const Scene& scene, const Accelerator& accel, const Pinhole
 
   const std::vector<Tile> tiles = make_tiles(settings.width, settings.height, settings.tile_size);
   TileRunner runner(settings.threads);
+  // The emission seen directly, where a light shows: camera rays of its own, as for the
+  // path tracer (render/camera_emission.h).
+  std::optional<CameraEmission> camera_emission;
+  if (settings.emitter_samples > 0)
+    camera_emission.emplace(scene, accel, camera, filter, settings.width, settings.height, settings.emitter_samples,
+                            runner);
+  tbb::enumerable_thread_specific<CameraEmission::Scratch> emission_scratch;
+  std::atomic<std::uint64_t> emission_rays{0};
+  total_rays += camera_emission ? camera_emission->setup_rays() : 0;
   auto current_image = [&](int iterations) {
     ImageRGB image(settings.width, settings.height);
     if (iterations == 0) return image;
@@ -113,17 +125,27 @@ ImageRGB render_sppm(const Scene& scene, const Accelerator& accel, const Pinhole
           std::uint64_t rays = 0, primary_rays = 0;
           Clock::duration primary_time{0};
           PrimaryBlock& primary = primary_blocks.local();
+          std::array<glm::vec3, kBlockPixels> seen;
           for (const PixelBlock& block : make_blocks(tile)) {
-            primary.generate(camera, filter, block, iteration, settings.seed);
+            const bool apart = camera_emission && camera_emission->covers(block);
+            primary.generate(camera, filter, block, iteration, settings.seed, apart);
             primary_time += primary.trace(accel, settings.mode);
             primary_rays += static_cast<std::uint64_t>(primary.size());
+            seen.fill(glm::vec3(0.0f));
+            if (apart) {
+              std::uint64_t added = 0;
+              camera_emission->add(block, iteration, settings.seed, settings.mode, seen.data(), added,
+                                   emission_scratch.local());
+              rays += added;
+              emission_rays.fetch_add(added, std::memory_order_relaxed);
+            }
             for (int i = 0; i < block.pixel_count(); ++i) {
               const std::size_t p = static_cast<std::size_t>(block.y0 + i / block.width()) * settings.width +
                                     static_cast<std::size_t>(block.x0 + i % block.width());
               const SppmIntegrator::CameraPath path =
-                  sppm.camera_path(primary.ray(i), primary.hit(i), primary.sampler(i), rays);
+                  sppm.camera_path(primary.ray(i), primary.hit(i), primary.sampler(i), rays, apart);
               PixelStats& s = pixel_stats[p];
-              s.direct += glm::dvec3(path.L);
+              s.direct += glm::dvec3(path.L) + glm::dvec3(seen[static_cast<std::size_t>(i)]);
               visible[p] = path.vp;
               if (path.vp.valid && s.radius == 0.0f) s.radius = initial_radius(path.vp.distance);
               if (!(s.radius > 0.0f)) visible[p].valid = false;
@@ -183,6 +205,8 @@ ImageRGB render_sppm(const Scene& scene, const Accelerator& accel, const Pinhole
   stats.pixels_past_min_spp = 0;
   stats.rays = total_rays.load();
   stats.path_batches = {};
+  stats.path_batches.emission_rays = emission_rays.load();
+  stats.setup_rays = camera_emission ? camera_emission->setup_rays() : 0;
   stats.primary_rays = total_primary_rays.load();
   stats.primary_seconds = std::chrono::duration<double>(Clock::duration(total_primary_ticks.load())).count();
   ImageRGB image = current_image(iterations);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -54,8 +55,10 @@ TEST(CameraEmission, CoversNothingWithoutAnEmissiveMaterial) {
 // is the radiance times the fraction of the pixel the square's image covers, a square of
 // half-side 7.3 pixels about the image centre. Rendered with and without the estimate, the
 // mean stays the exact one, and the per-pixel error falls several times over (the edges
-// are the only noise there is).
-TEST(CameraEmission, SplitsTheDirectEmissionWithoutBiasAndWithLessNoise) {
+// are the only noise there is). For the path tracer and for SPPM's camera paths alike.
+class EmitterImage : public ::testing::TestWithParam<IntegratorKind> {};
+
+TEST_P(EmitterImage, SplitsTheDirectEmissionWithoutBiasAndWithLessNoise) {
   constexpr int kSize = 32;
   constexpr float kHalfPixels = 7.3f;
   const glm::vec3 radiance(2.0f, 1.0f, 0.5f);
@@ -76,6 +79,7 @@ TEST(CameraEmission, SplitsTheDirectEmissionWithoutBiasAndWithLessNoise) {
   s.spp = 16;
   s.threads = 2;
   s.max_depth = 2;
+  s.integrator = GetParam();
   double error[2] = {0.0, 0.0}, mean[2] = {0.0, 0.0}, exact_mean = 0.0;
   std::uint64_t emission_rays[2] = {0, 0};
   for (int with = 0; with < 2; ++with) {
@@ -99,8 +103,8 @@ TEST(CameraEmission, SplitsTheDirectEmissionWithoutBiasAndWithLessNoise) {
   EXPECT_EQ(emission_rays[0], 0u);
   EXPECT_EQ(emission_rays[1], 4u * 16u * 4u * kSize * kSize);  // every block shows the square
   // The image sums to the square's area in pixels times the radiance, up to the noise of
-  // its 58 edge pixels (measured: 0.002 % and 0.02 % off; counting the emission twice or
-  // not at all would be 100 % off).
+  // its 58 edge pixels (measured for the path tracer: 0.002 % and 0.02 % off; counting the
+  // emission twice or not at all would be 100 % off).
   EXPECT_NEAR(mean[0], exact_mean, 0.002 * exact_mean);
   EXPECT_NEAR(mean[1], exact_mean, 0.002 * exact_mean);
   // Four rays per sample, one Sobol' net of 64 points per pixel: the edge variance falls
@@ -108,6 +112,11 @@ TEST(CameraEmission, SplitsTheDirectEmissionWithoutBiasAndWithLessNoise) {
   EXPECT_GT(error[0], 0.0);
   EXPECT_LT(error[1], error[0] / 4.0);
 }
+
+INSTANTIATE_TEST_SUITE_P(CameraEmission, EmitterImage, ::testing::Values(IntegratorKind::Path, IntegratorKind::Sppm),
+                         [](const ::testing::TestParamInfo<IntegratorKind>& info) {
+                           return info.param == IntegratorKind::Path ? std::string("path") : std::string("sppm");
+                         });
 
 // A first surface of coverage below 1 is the path's to count (it passes it or stops there
 // by chance), so an emitter drawn with BLEND at alpha 0.5 renders the very same image with

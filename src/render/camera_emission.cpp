@@ -27,22 +27,21 @@ CameraEmission::CameraEmission(const Scene& scene, const Accelerator& accel, con
   cells_.assign(count, 0);
   if (std::none_of(scene.materials.begin(), scene.materials.end(), [](const Material& m) { return m.emissive(); }))
     return;
-  // A cell shows an emitter when a camera ray through a corner of one of its pixels meets
-  // an emissive material first (whichever side, whatever its coverage: only the choice of
-  // blocks depends on it).
+  // A cell shows an emitter when a camera ray through the top-left corner of one of its
+  // pixels meets an emissive material first (whichever side, whatever its coverage: only
+  // the choice of cells depends on it). One packet per cell: a ray per pixel in all.
   std::vector<std::uint8_t> sees(count, 0);
   std::vector<std::uint32_t> traced(count, 0);
   runner.run_ranges(count, 16, [&](std::size_t begin, std::size_t end) {
-    constexpr int kLattice = (kCell + 1) * (kCell + 1);
-    Ray rays[kLattice];
-    Hit hits[kLattice];
+    Ray rays[kBlockPixels];
+    Hit hits[kBlockPixels];
     for (std::size_t c = begin; c < end; ++c) {
       const int x0 = static_cast<int>(c % static_cast<std::size_t>(cells_x_)) * kCell;
       const int y0 = static_cast<int>(c / static_cast<std::size_t>(cells_x_)) * kCell;
       const int x1 = std::min(x0 + kCell, width), y1 = std::min(y0 + kCell, height);
       int n = 0;
-      for (int y = y0; y <= y1; ++y)
-        for (int x = x0; x <= x1; ++x) {
+      for (int y = y0; y < y1; ++y)
+        for (int x = x0; x < x1; ++x) {
           Ray& ray = rays[n++];
           ray = camera.generate(static_cast<float>(x), static_cast<float>(y));
           if (camera.shutter_open()) {
@@ -50,10 +49,7 @@ CameraEmission::CameraEmission(const Scene& scene, const Accelerator& accel, con
             ray = camera.moved(ray);
           }
         }
-      // Neighbouring rays from one point: packets of at most 64 (the hits are the same
-      // however they are traced).
-      for (int first = 0; first < n; first += kBlockPixels)
-        accel.intersect_packet(rays + first, hits + first, std::min(kBlockPixels, n - first));
+      accel.intersect_packet(rays, hits, n);  // the hits are the same however they are traced
       traced[c] = static_cast<std::uint32_t>(n);
       for (int i = 0; i < n && !sees[c]; ++i)
         if (hits[i].valid() && scene.materials[scene.material_id[hits[i].prim]].emissive()) sees[c] = 1;
@@ -68,6 +64,12 @@ CameraEmission::CameraEmission(const Scene& scene, const Accelerator& accel, con
         for (int nx = std::max(cx - 1, 0); nx <= std::min(cx + 1, cells_x_ - 1); ++nx)
           cells_[static_cast<std::size_t>(ny) * cells_x_ + nx] = 1;
     }
+}
+
+bool CameraEmission::covers(int x, int y) const {
+  if (x < 0 || y < 0) return false;
+  const int cx = x / kCell, cy = y / kCell;
+  return cx < cells_x_ && cy < cells_y_ && cells_[static_cast<std::size_t>(cy) * cells_x_ + cx];
 }
 
 bool CameraEmission::covers(const PixelBlock& block) const {
@@ -94,38 +96,45 @@ glm::vec3 CameraEmission::emission_at(const Ray& ray, const Hit& hit) const {
 
 void CameraEmission::add(const PixelBlock& block, int sample, std::uint64_t seed, TraceMode mode, glm::vec3* L,
                          std::uint64_t& rays, Scratch& scratch) const {
-  const int n = block.pixel_count();
+  // The block's covered pixels, by their index in the block.
+  scratch.pixels.clear();
+  for (int y = block.y0, i = 0; y < block.y1; ++y)
+    for (int x = block.x0; x < block.x1; ++x, ++i)
+      if (covers(x, y)) scratch.pixels.push_back(i);
+  const int n = static_cast<int>(scratch.pixels.size());
+  if (n == 0) return;
   const std::size_t total = static_cast<std::size_t>(n) * static_cast<std::size_t>(samples_);
   scratch.rays.resize(total);
   scratch.hits.resize(total);
-  // Ray j * n + i: pixel i's j-th, so that each j is one packet of the block.
+  // Ray j * n + k: covered pixel k's j-th, so that each j is one packet.
+  const int width = block.width();
   for (int j = 0; j < samples_; ++j) {
     const auto index = static_cast<std::uint32_t>(sample) * static_cast<std::uint32_t>(samples_) +
                        static_cast<std::uint32_t>(j);
-    int i = 0;
-    for (int y = block.y0; y < block.y1; ++y)
-      for (int x = block.x0; x < block.x1; ++x, ++i) {
-        SobolSampler sampler(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y), index, seed ^ kSeedSalt);
-        scratch.rays[static_cast<std::size_t>(j) * n + i] = camera_ray(camera_, filter_, x, y, sampler);
-      }
+    for (int k = 0; k < n; ++k) {
+      const int x = block.x0 + scratch.pixels[static_cast<std::size_t>(k)] % width;
+      const int y = block.y0 + scratch.pixels[static_cast<std::size_t>(k)] / width;
+      SobolSampler sampler(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y), index, seed ^ kSeedSalt);
+      scratch.rays[static_cast<std::size_t>(j) * n + k] = camera_ray(camera_, filter_, x, y, sampler);
+    }
   }
   if (mode == TraceMode::Packet) {
     for (int j = 0; j < samples_; ++j)
       accel_.intersect_packet(scratch.rays.data() + static_cast<std::size_t>(j) * n,
                               scratch.hits.data() + static_cast<std::size_t>(j) * n, n);
   } else {
-    for (std::size_t k = 0; k < total; ++k) scratch.hits[k] = accel_.intersect(scratch.rays[k]);
+    for (std::size_t r = 0; r < total; ++r) scratch.hits[r] = accel_.intersect(scratch.rays[r]);
   }
   rays += total;
   const float weight = 1.0f / static_cast<float>(samples_);
-  for (int i = 0; i < n; ++i) {
+  for (int k = 0; k < n; ++k) {
     glm::vec3 sum(0.0f);
     for (int j = 0; j < samples_; ++j) {
-      const std::size_t k = static_cast<std::size_t>(j) * n + i;
-      sum += emission_at(scratch.rays[k], scratch.hits[k]);
+      const std::size_t r = static_cast<std::size_t>(j) * n + k;
+      sum += emission_at(scratch.rays[r], scratch.hits[r]);
     }
     // As the path tracer drops a non-finite sample, so is this estimate.
-    if (finite(sum)) L[i] += sum * weight;
+    if (finite(sum)) L[scratch.pixels[static_cast<std::size_t>(k)]] += sum * weight;
   }
 }
 

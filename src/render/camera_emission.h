@@ -13,12 +13,14 @@
 //
 // Unbiased: the emission a camera ray meets at an opaque first surface (coverage 1) is
 // estimated by these rays alone, and at a first surface of coverage below 1 by the path
-// alone: the two split the term. The blocks are chosen from the geometry alone, never from
-// a sample (camera rays through the corners of every pixel of each 8x8 cell of the image,
-// through the lens centre and at mid-shutter; the cells next to one that sees an emitter
-// count too), so the choice cannot correlate with what the samples see. A blur wider than
-// 8 pixels (depth of field, motion) can carry an emitter's edge beyond them: those pixels
-// keep the path's estimate, still unbiased.
+// alone: the two split the term. The pixels are chosen from the geometry alone, never from
+// a sample, and each by the 8x8 cell of the image it lies in (never by its block or tile,
+// which would make the image depend on the tile size): a cell is chosen when a camera ray
+// through a corner of one of its pixels, through the lens centre and at mid-shutter, sees
+// an emitter, and so are the cells next to it. So the choice cannot correlate with what
+// the samples see. A blur wider than 8 pixels (depth of field, motion) or an emitter
+// thinner than a pixel can put an emitter's edge outside the chosen cells: those pixels
+// keep the path's estimate, still unbiased, only without the gain.
 #pragma once
 
 #include <cstdint>
@@ -44,7 +46,10 @@ class CameraEmission {
   CameraEmission(const Scene& scene, const Accelerator& accel, const PinholeCamera& camera,
                  const PixelFilter& filter, int width, int height, int samples, TileRunner& runner);
 
-  // Whether the pixels of `block` estimate their directly seen emission here.
+  // Whether pixel (x, y) estimates its directly seen emission here: whether its cell does,
+  // so that the choice depends on the pixel alone, not on the block or tile it is in.
+  bool covers(int x, int y) const;
+  // Whether some pixel of `block` does.
   bool covers(const PixelBlock& block) const;
   // Cells of 8 x 8 pixels that do, of cell_count().
   std::size_t covered_cells() const;
@@ -54,14 +59,16 @@ class CameraEmission {
 
   // Reused from call to call (one per thread).
   struct Scratch {
+    std::vector<int> pixels;  // a block's covered pixels
     std::vector<Ray> rays;
     std::vector<Hit> hits;
   };
-  // Adds to L[i], for pixel i of `block` (row-major, as PrimaryBlock lays it out), the mean
-  // emission that this estimate's rays of sample `sample` meet at an opaque first surface
-  // emitting toward them. The rays are the pixel's camera rays for sample indices
-  // samples * sample + j (j < samples) with a seed of their own, traced as 8x8 packets or
-  // one by one as `mode` says (the same hits either way); `rays` counts them.
+  // Adds to L[i], for each pixel i of `block` (row-major, as PrimaryBlock lays it out) that
+  // covers(x, y), the mean emission that this estimate's rays of sample `sample` meet at an
+  // opaque first surface emitting toward them. The rays are the pixel's camera rays for
+  // sample indices samples * sample + j (j < samples) with a seed of their own, traced as
+  // packets (one per j, of the block's covered pixels) or one by one as `mode` says (the
+  // same hits either way); `rays` counts them.
   void add(const PixelBlock& block, int sample, std::uint64_t seed, TraceMode mode, glm::vec3* L,
            std::uint64_t& rays, Scratch& scratch) const;
 

@@ -30,9 +30,9 @@ void PrimaryBlock::clear() {
 }
 
 void PrimaryBlock::generate(const PinholeCamera& camera, const PixelFilter& filter, const PixelBlock& block,
-                            int sample, std::uint64_t seed, bool emission_apart) {
+                            int sample, std::uint64_t seed) {
   clear();
-  add(camera, filter, block, sample, seed, emission_apart);
+  add(camera, filter, block, sample, seed);
 }
 
 Ray camera_ray(const PinholeCamera& camera, const PixelFilter& filter, int x, int y, SobolSampler& sampler) {
@@ -51,7 +51,7 @@ Ray camera_ray(const PinholeCamera& camera, const PixelFilter& filter, int x, in
 }
 
 void PrimaryBlock::add(const PinholeCamera& camera, const PixelFilter& filter, const PixelBlock& block, int sample,
-                       std::uint64_t seed, bool emission_apart) {
+                       std::uint64_t seed) {
   check_block(block);
   if (blocks_ == kWavefrontBlocks)
     throw std::invalid_argument("primary block: more than " + std::to_string(kWavefrontBlocks) + " blocks");
@@ -60,7 +60,7 @@ void PrimaryBlock::add(const PinholeCamera& camera, const PixelFilter& filter, c
     for (int x = block.x0; x < block.x1; ++x) {
       SobolSampler& sampler = sobol_.emplace_back(static_cast<std::uint32_t>(x), static_cast<std::uint32_t>(y),
                                                   static_cast<std::uint32_t>(sample), seed);
-      apart_[static_cast<std::size_t>(count_)] = emission_apart;
+      apart_[static_cast<std::size_t>(count_)] = false;
       rays_[static_cast<std::size_t>(count_++)] = camera_ray(camera, filter, x, y, sampler);
     }
   }

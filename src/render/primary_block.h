@@ -60,14 +60,13 @@ class PrimaryBlock {
   // The camera rays of sample `sample` of every pixel of `block` (at most kBlockPixels),
   // row-major in the block, for every integrator: one SobolSampler per pixel, seeded by
   // (x, y, sample, seed), makes its camera_ray and then stays with the pixel for shading.
-  // `emission_apart`: the block's directly seen emission is estimated by CameraEmission
-  // (render/camera_emission.h), not by these paths. Throws
+  // Throws
   // std::invalid_argument for an empty or too large block. generate() starts afresh with
   // this block; add() appends it after the blocks already there (at most kWavefrontBlocks).
   void generate(const PinholeCamera& camera, const PixelFilter& filter, const PixelBlock& block, int sample,
-                std::uint64_t seed, bool emission_apart = false);
+                std::uint64_t seed);
   void add(const PinholeCamera& camera, const PixelFilter& filter, const PixelBlock& block, int sample,
-           std::uint64_t seed, bool emission_apart = false);
+           std::uint64_t seed);
   void clear();
 
   // Closest hits of all the rays: one Accelerator::intersect_packet call per block (Packet)
@@ -86,8 +85,10 @@ class PrimaryBlock {
   const Ray* rays() const { return rays_.data(); }
   const Hit* hits() const { return hits_.data(); }
   SobolSampler* samplers() { return sobol_.data(); }
-  // Per ray: its block's emission_apart.
+  // Per ray: whether the emission it meets at its first surface is estimated apart
+  // (render/camera_emission.h: CameraEmission::covers its pixel); false until set.
   const bool* emission_apart() const { return apart_.data(); }
+  void set_emission_apart(int i, bool apart) { apart_[static_cast<std::size_t>(i)] = apart; }
 
  private:
   std::vector<SobolSampler> sobol_;  // rebuilt in place per sample

@@ -31,6 +31,10 @@ void check_render_settings(const Scene& scene, const PinholeCamera& camera, cons
   if (s.light_samples < 1) fail("light samples must be >= 1");
   if (s.threads < 0) fail("threads must be >= 0");
   if (s.tile_size <= 0) fail("tile size must be positive");
+  // The emission estimate's rays take sample indices spp * emitter_samples (32 bits).
+  if (s.emitter_samples < 0 || s.emitter_samples > 64) fail("emitter samples must be between 0 and 64");
+  if (static_cast<std::uint64_t>(s.spp) * static_cast<std::uint64_t>(s.emitter_samples) > (std::uint64_t{1} << 32))
+    fail("samples per pixel times emitter samples must be at most 2^32");
   if (s.mode != TraceMode::Packet && s.mode != TraceMode::Single) fail("unknown trace mode");
   if (scene.material_id.size() != scene.triangle_count() || scene.materials.empty())
     fail("scene " + scene.source + " has no material for some triangles");

@@ -122,8 +122,14 @@ bool SampleRenderer::render_tile(const Tile& tile, int sample, const BlockWanted
     primary.clear();
     std::array<bool, kWavefrontBlocks> apart{};
     for (std::size_t k = 0; k < n; ++k) {
-      apart[k] = im.camera_emission && im.camera_emission->covers(blocks[chosen[k]]);
-      primary.add(im.camera, im.filter, blocks[chosen[k]], sample, im.settings.seed, apart[k]);
+      const PixelBlock& block = blocks[chosen[k]];
+      primary.add(im.camera, im.filter, block, sample, im.settings.seed);
+      apart[k] = im.camera_emission && im.camera_emission->covers(block);
+      if (!apart[k]) continue;
+      // Pixel by pixel: which pixels estimate it apart must not depend on the block.
+      int i = primary.block_start(static_cast<int>(k));
+      for (int y = block.y0; y < block.y1; ++y)
+        for (int x = block.x0; x < block.x1; ++x) primary.set_emission_apart(i++, im.camera_emission->covers(x, y));
     }
     counters.primary_time += primary.trace(im.accel, im.settings.mode);
     counters.primary_rays += static_cast<std::uint64_t>(primary.size());

@@ -128,7 +128,7 @@ ImageRGB render_sppm(const Scene& scene, const Accelerator& accel, const Pinhole
           std::array<glm::vec3, kBlockPixels> seen;
           for (const PixelBlock& block : make_blocks(tile)) {
             const bool apart = camera_emission && camera_emission->covers(block);
-            primary.generate(camera, filter, block, iteration, settings.seed, apart);
+            primary.generate(camera, filter, block, iteration, settings.seed);
             primary_time += primary.trace(accel, settings.mode);
             primary_rays += static_cast<std::uint64_t>(primary.size());
             seen.fill(glm::vec3(0.0f));
@@ -143,7 +143,9 @@ ImageRGB render_sppm(const Scene& scene, const Accelerator& accel, const Pinhole
               const std::size_t p = static_cast<std::size_t>(block.y0 + i / block.width()) * settings.width +
                                     static_cast<std::size_t>(block.x0 + i % block.width());
               const SppmIntegrator::CameraPath path =
-                  sppm.camera_path(primary.ray(i), primary.hit(i), primary.sampler(i), rays, apart);
+                  sppm.camera_path(primary.ray(i), primary.hit(i), primary.sampler(i), rays,
+                                   apart && camera_emission->covers(block.x0 + i % block.width(),
+                                                                    block.y0 + i / block.width()));
               PixelStats& s = pixel_stats[p];
               s.direct += glm::dvec3(path.L) + glm::dvec3(seen[static_cast<std::size_t>(i)]);
               visible[p] = path.vp;

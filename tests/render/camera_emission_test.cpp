@@ -7,6 +7,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -117,6 +118,34 @@ INSTANTIATE_TEST_SUITE_P(CameraEmission, EmitterImage, ::testing::Values(Integra
                          [](const ::testing::TestParamInfo<IntegratorKind>& info) {
                            return info.param == IntegratorKind::Path ? std::string("path") : std::string("sppm");
                          });
+
+// Which pixels estimate emission apart depends on the pixel alone, never on the block or
+// tile it is rendered in: with a lens so wide that the light's blur runs far past the cells
+// its corner rays found (and their neighbours), tiles of 5, 12 and 16 pixels (blocks that
+// straddle covered and uncovered cells) give the same bytes.
+TEST(CameraEmission, ThePixelsThatUseItDoNotDependOnTheTiles) {
+  const Scene scene = load_scene(test::scenes_dir() / "cornell-box.gltf");
+  const KdTree kd(scene.triangles);
+  PinholeCamera camera = PinholeCamera::from_desc(scene.cameras.at(0), 64, 64);
+  camera.set_thin_lens(0.05f, 0.3f);  // the light, 1 m away, blurred over about 10 % of the image
+  RenderSettings s;
+  s.width = s.height = 64;
+  s.spp = 2;
+  s.threads = 2;
+  s.max_depth = 3;
+  std::vector<ImageRGB> images;
+  std::uint64_t emission_rays = 0;
+  for (const int tile : {16, 5, 12}) {
+    s.tile_size = tile;
+    RenderStats stats;
+    images.push_back(render_image(scene, kd, camera, s, stats));
+    if (tile == 16) emission_rays = stats.path_batches.emission_rays;
+    else EXPECT_EQ(stats.path_batches.emission_rays, emission_rays) << "tile " << tile;
+  }
+  EXPECT_GT(emission_rays, 0u);
+  EXPECT_EQ(images[1].rgb, images[0].rgb);
+  EXPECT_EQ(images[2].rgb, images[0].rgb);
+}
 
 // A first surface of coverage below 1 is the path's to count (it passes it or stops there
 // by chance), so an emitter drawn with BLEND at alpha 0.5 renders the very same image with

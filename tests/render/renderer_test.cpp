@@ -65,6 +65,10 @@ TEST(Renderer, RejectsInvalidSettings) {
   expect_rejected([](RenderSettings& s) { s.threads = -1; });
   expect_rejected([](RenderSettings& s) { s.max_depth = -1; });
   expect_rejected([](RenderSettings& s) { s.light_samples = -2; });
+  expect_rejected([](RenderSettings& s) { s.emitter_samples = -1; });
+  expect_rejected([](RenderSettings& s) { s.emitter_samples = 65; });
+  // Its rays' sample indices would wrap around 2^32.
+  expect_rejected([](RenderSettings& s) { s.spp = 1 << 27, s.emitter_samples = 64; });
   EXPECT_NO_THROW(render_image(scene, accel, cam, small_settings(8, 6), stats));
 }
 

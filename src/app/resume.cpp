@@ -56,6 +56,7 @@ std::string label(const std::string& key) {
   if (key == "causticRadius") return "--caustic-radius";
   if (key == "frameTime") return "--frame-time";
   if (key == "shutter") return "--shutter";
+  if (key == "emitterSamples") return "camera rays per sample on visible lights (render/camera_emission.h)";
   return "--" + key;
 }
 
@@ -142,6 +143,9 @@ CheckpointFacts render_facts(const RenderOptions& options, const RenderSettings&
           {"integrator", std::string(integrator_name(settings.integrator))},
           {"maxDepth", std::to_string(settings.max_depth)},
           {"lightSamples", std::to_string(settings.light_samples)},
+          // Not an option, but a render from before it (or with another count) would mix two
+          // estimators of the emission seen directly: the same expectation, other bytes.
+          {"emitterSamples", std::to_string(settings.emitter_samples)},
           {"filter", settings.filter == PixelFilterType::Gaussian ? "gaussian" : "box"},
           {"camera", camera_text},
           {"environment", environment},

@@ -9,12 +9,14 @@
 #include <fstream>
 #include <iterator>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "app/cli.h"
+#include "app/resume.h"
 #include "render/checkpoint_file.h"
 #include "render/image_io.h"
 #include "test_paths.h"
@@ -231,6 +233,25 @@ TEST_F(Resume, RefusesFilesItCannotResume) {
   r = render("resumed.exr", {"--resume", path("short.exr"), "--spp", "4", "--seed", "7"});
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("short.exr"), std::string::npos) << r.err;
+}
+
+// A checkpoint written before the emission seen directly had camera rays of its own
+// (render/camera_emission.h), or with another count of them, holds samples of another
+// estimator: refused, with a message that says what differs.
+TEST(ResumeFacts, ACheckpointWithoutTheEmissionEstimateIsRefused) {
+  Checkpoint old;
+  old.facts = {{"seed", "7"}};
+  const CheckpointFacts now = {{"seed", "7"}, {"emitterSamples", "4"}};
+  try {
+    check_resumable(old, now, "old.exr");
+    ADD_FAILURE() << "resumed a checkpoint that does not record emitterSamples";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("camera rays per sample on visible lights"), std::string::npos) << e.what();
+  }
+  old.facts = {{"emitterSamples", "2"}, {"seed", "7"}};
+  EXPECT_THROW(check_resumable(old, now, "old.exr"), std::invalid_argument);
+  old.facts = {{"emitterSamples", "4"}, {"seed", "7"}};
+  EXPECT_NO_THROW(check_resumable(old, now, "old.exr"));
 }
 
 }  // namespace

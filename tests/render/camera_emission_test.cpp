@@ -56,7 +56,8 @@ TEST(CameraEmission, CoversNothingWithoutAnEmissiveMaterial) {
 // is the radiance times the fraction of the pixel the square's image covers, a square of
 // half-side 7.3 pixels about the image centre. Rendered with and without the estimate, the
 // mean stays the exact one, and the per-pixel error falls several times over (the edges
-// are the only noise there is). For the path tracer and for SPPM's camera paths alike.
+// are the only noise there is). For the path tracer (alone and with the caustic photon
+// map) and for SPPM's camera paths alike.
 class EmitterImage : public ::testing::TestWithParam<IntegratorKind> {};
 
 TEST_P(EmitterImage, SplitsTheDirectEmissionWithoutBiasAndWithLessNoise) {
@@ -114,9 +115,10 @@ TEST_P(EmitterImage, SplitsTheDirectEmissionWithoutBiasAndWithLessNoise) {
   EXPECT_LT(error[1], error[0] / 4.0);
 }
 
-INSTANTIATE_TEST_SUITE_P(CameraEmission, EmitterImage, ::testing::Values(IntegratorKind::Path, IntegratorKind::Sppm),
+INSTANTIATE_TEST_SUITE_P(CameraEmission, EmitterImage,
+                         ::testing::Values(IntegratorKind::Path, IntegratorKind::Photon, IntegratorKind::Sppm),
                          [](const ::testing::TestParamInfo<IntegratorKind>& info) {
-                           return info.param == IntegratorKind::Path ? std::string("path") : std::string("sppm");
+                           return std::string(integrator_name(info.param));
                          });
 
 // Which pixels estimate emission apart depends on the pixel alone, never on the block or

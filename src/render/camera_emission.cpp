@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "render/path_rules.h"
 #include "render/shading_inputs.h"
 #include "render/sobol_sampler.h"
 
@@ -13,8 +14,6 @@ namespace {
 constexpr int kCell = kBlockSide;  // cells of the image's 8x8 grid
 // The estimate's own sample streams: the pixel's, with this seed instead of the render's.
 constexpr std::uint64_t kSeedSalt = 0x7A3D95C2E8F14B61ull;
-
-bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
 }  // namespace
 
@@ -31,7 +30,7 @@ CameraEmission::CameraEmission(const Scene& scene, const Accelerator& accel, con
   // pixels meets an emissive material first (whichever side, whatever its coverage: only
   // the choice of cells depends on it). One packet per cell: a ray per pixel in all.
   std::vector<std::uint8_t> sees(count, 0);
-  std::vector<std::uint32_t> traced(count, 0);
+  setup_rays_ = static_cast<std::uint64_t>(width) * static_cast<std::uint64_t>(height);
   runner.run_ranges(count, 16, [&](std::size_t begin, std::size_t end) {
     Ray rays[kBlockPixels];
     Hit hits[kBlockPixels];
@@ -50,12 +49,10 @@ CameraEmission::CameraEmission(const Scene& scene, const Accelerator& accel, con
           }
         }
       accel.intersect_packet(rays, hits, n);  // the hits are the same however they are traced
-      traced[c] = static_cast<std::uint32_t>(n);
       for (int i = 0; i < n && !sees[c]; ++i)
         if (hits[i].valid() && scene.materials[scene.material_id[hits[i].prim]].emissive()) sees[c] = 1;
     }
   });
-  for (const std::uint32_t t : traced) setup_rays_ += t;
   // With the cells around each.
   for (int cy = 0; cy < cells_y_; ++cy)
     for (int cx = 0; cx < cells_x_; ++cx) {
@@ -72,14 +69,15 @@ bool CameraEmission::covers(int x, int y) const {
   return cx < cells_x_ && cy < cells_y_ && cells_[static_cast<std::size_t>(cy) * cells_x_ + cx];
 }
 
-bool CameraEmission::covers(const PixelBlock& block) const {
-  if (block.pixel_count() <= 0) return false;
-  const int cx0 = std::max(block.x0, 0) / kCell, cy0 = std::max(block.y0, 0) / kCell;
-  const int cx1 = std::min((block.x1 - 1) / kCell, cells_x_ - 1), cy1 = std::min((block.y1 - 1) / kCell, cells_y_ - 1);
-  for (int cy = cy0; cy <= cy1; ++cy)
-    for (int cx = cx0; cx <= cx1; ++cx)
-      if (cells_[static_cast<std::size_t>(cy) * cells_x_ + cx]) return true;
-  return false;
+bool CameraEmission::mark(const PixelBlock& block, PrimaryBlock& primary, int first) const {
+  bool any = false;
+  for (int y = block.y0, i = first; y < block.y1; ++y)
+    for (int x = block.x0; x < block.x1; ++x, ++i) {
+      const bool apart = covers(x, y);
+      primary.set_emission_apart(i, apart);
+      any |= apart;
+    }
+  return any;
 }
 
 std::size_t CameraEmission::covered_cells() const {
@@ -94,13 +92,12 @@ glm::vec3 CameraEmission::emission_at(const Ray& ray, const Hit& hit) const {
   return si.emission;
 }
 
-void CameraEmission::add(const PixelBlock& block, int sample, std::uint64_t seed, TraceMode mode, glm::vec3* L,
-                         std::uint64_t& rays, Scratch& scratch) const {
-  // The block's covered pixels, by their index in the block.
+void CameraEmission::add(const PixelBlock& block, const bool* apart, int sample, std::uint64_t seed, TraceMode mode,
+                         glm::vec3* L, std::uint64_t& rays, Scratch& scratch) const {
+  // The block's marked pixels, by their index in the block.
   scratch.pixels.clear();
-  for (int y = block.y0, i = 0; y < block.y1; ++y)
-    for (int x = block.x0; x < block.x1; ++x, ++i)
-      if (covers(x, y)) scratch.pixels.push_back(i);
+  for (int i = 0; i < block.pixel_count(); ++i)
+    if (apart[i]) scratch.pixels.push_back(i);
   const int n = static_cast<int>(scratch.pixels.size());
   if (n == 0) return;
   const std::size_t total = static_cast<std::size_t>(n) * static_cast<std::size_t>(samples_);
@@ -134,7 +131,7 @@ void CameraEmission::add(const PixelBlock& block, int sample, std::uint64_t seed
       sum += emission_at(scratch.rays[r], scratch.hits[r]);
     }
     // As the path tracer drops a non-finite sample, so is this estimate.
-    if (finite(sum)) L[scratch.pixels[static_cast<std::size_t>(k)]] += sum * weight;
+    if (path_rules::is_finite(sum)) L[scratch.pixels[static_cast<std::size_t>(k)]] += sum * weight;
   }
 }
 

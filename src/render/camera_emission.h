@@ -49,12 +49,14 @@ class CameraEmission {
   // Whether pixel (x, y) estimates its directly seen emission here: whether its cell does,
   // so that the choice depends on the pixel alone, not on the block or tile it is in.
   bool covers(int x, int y) const;
-  // Whether some pixel of `block` does.
-  bool covers(const PixelBlock& block) const;
+  // Marks the camera rays of `block`, which `primary` holds from ray `first` on (row-major,
+  // as PrimaryBlock::add lays them out), with covers(x, y) (PrimaryBlock::set_emission_apart):
+  // the one place the choice is made for every integrator. Returns whether it marked any.
+  bool mark(const PixelBlock& block, PrimaryBlock& primary, int first) const;
   // Cells of 8 x 8 pixels that do, of cell_count().
   std::size_t covered_cells() const;
   std::size_t cell_count() const { return cells_.size(); }
-  // Rays traced to find them.
+  // Rays traced to find them: one per pixel, none without an emissive material.
   std::uint64_t setup_rays() const { return setup_rays_; }
 
   // Reused from call to call (one per thread).
@@ -63,13 +65,13 @@ class CameraEmission {
     std::vector<Ray> rays;
     std::vector<Hit> hits;
   };
-  // Adds to L[i], for each pixel i of `block` (row-major, as PrimaryBlock lays it out) that
-  // covers(x, y), the mean emission that this estimate's rays of sample `sample` meet at an
+  // Adds to L[i], for each pixel i of `block` (row-major, as PrimaryBlock lays it out) whose
+  // apart[i] mark() set, the mean emission that this estimate's rays of sample `sample` meet at an
   // opaque first surface emitting toward them. The rays are the pixel's camera rays for
   // sample indices samples * sample + j (j < samples) with a seed of their own, traced as
   // packets (one per j, of the block's covered pixels) or one by one as `mode` says (the
   // same hits either way); `rays` counts them.
-  void add(const PixelBlock& block, int sample, std::uint64_t seed, TraceMode mode, glm::vec3* L,
+  void add(const PixelBlock& block, const bool* apart, int sample, std::uint64_t seed, TraceMode mode, glm::vec3* L,
            std::uint64_t& rays, Scratch& scratch) const;
 
  private:

@@ -124,12 +124,8 @@ bool SampleRenderer::render_tile(const Tile& tile, int sample, const BlockWanted
     for (std::size_t k = 0; k < n; ++k) {
       const PixelBlock& block = blocks[chosen[k]];
       primary.add(im.camera, im.filter, block, sample, im.settings.seed);
-      apart[k] = im.camera_emission && im.camera_emission->covers(block);
-      if (!apart[k]) continue;
-      // Pixel by pixel: which pixels estimate it apart must not depend on the block.
-      int i = primary.block_start(static_cast<int>(k));
-      for (int y = block.y0; y < block.y1; ++y)
-        for (int x = block.x0; x < block.x1; ++x) primary.set_emission_apart(i++, im.camera_emission->covers(x, y));
+      apart[k] = im.camera_emission &&
+                 im.camera_emission->mark(block, primary, primary.block_start(static_cast<int>(k)));
     }
     counters.primary_time += primary.trace(im.accel, im.settings.mode);
     counters.primary_rays += static_cast<std::uint64_t>(primary.size());
@@ -138,9 +134,9 @@ bool SampleRenderer::render_tile(const Tile& tile, int sample, const BlockWanted
     for (std::size_t k = 0; k < n; ++k) {
       if (!apart[k]) continue;
       std::uint64_t emission_rays = 0;
-      im.camera_emission->add(blocks[chosen[k]], sample, im.settings.seed, im.settings.mode,
-                              L.data() + primary.block_start(static_cast<int>(k)), emission_rays,
-                              im.emission_scratch.local());
+      const int start = primary.block_start(static_cast<int>(k));
+      im.camera_emission->add(blocks[chosen[k]], primary.emission_apart() + start, sample, im.settings.seed,
+                              im.settings.mode, L.data() + start, emission_rays, im.emission_scratch.local());
       rays += emission_rays;
       im.path_scratch.local().stats.emission_rays += emission_rays;
     }

@@ -127,15 +127,15 @@ ImageRGB render_sppm(const Scene& scene, const Accelerator& accel, const Pinhole
           PrimaryBlock& primary = primary_blocks.local();
           std::array<glm::vec3, kBlockPixels> seen;
           for (const PixelBlock& block : make_blocks(tile)) {
-            const bool apart = camera_emission && camera_emission->covers(block);
             primary.generate(camera, filter, block, iteration, settings.seed);
+            const bool apart = camera_emission && camera_emission->mark(block, primary, 0);
             primary_time += primary.trace(accel, settings.mode);
             primary_rays += static_cast<std::uint64_t>(primary.size());
             seen.fill(glm::vec3(0.0f));
             if (apart) {
               std::uint64_t added = 0;
-              camera_emission->add(block, iteration, settings.seed, settings.mode, seen.data(), added,
-                                   emission_scratch.local());
+              camera_emission->add(block, primary.emission_apart(), iteration, settings.seed, settings.mode,
+                                   seen.data(), added, emission_scratch.local());
               rays += added;
               emission_rays.fetch_add(added, std::memory_order_relaxed);
             }
@@ -144,8 +144,7 @@ ImageRGB render_sppm(const Scene& scene, const Accelerator& accel, const Pinhole
                                     static_cast<std::size_t>(block.x0 + i % block.width());
               const SppmIntegrator::CameraPath path =
                   sppm.camera_path(primary.ray(i), primary.hit(i), primary.sampler(i), rays,
-                                   apart && camera_emission->covers(block.x0 + i % block.width(),
-                                                                    block.y0 + i / block.width()));
+                                   primary.emission_apart()[i]);
               PixelStats& s = pixel_stats[p];
               s.direct += glm::dvec3(path.L) + glm::dvec3(seen[static_cast<std::size_t>(i)]);
               visible[p] = path.vp;

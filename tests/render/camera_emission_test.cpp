@@ -30,10 +30,22 @@ TEST(CameraEmission, CoversTheBlocksThatShowTheLightAndNoOthers) {
   const CameraEmission emission(scene, kd, camera, filter, 256, 256, 4, runner);
   ASSERT_EQ(emission.cell_count(), 32u * 32u);
   // The light spans about x 105-150, y 31-40 at this size (its pixels there are 14-17 in red).
-  EXPECT_TRUE(emission.covers({120, 32, 128, 40}));
-  EXPECT_TRUE(emission.covers({144, 40, 152, 48}));
-  EXPECT_FALSE(emission.covers({0, 248, 8, 256}));
-  EXPECT_FALSE(emission.covers({128, 128, 136, 136}));
+  EXPECT_TRUE(emission.covers(124, 35));
+  EXPECT_TRUE(emission.covers(149, 41));
+  EXPECT_FALSE(emission.covers(4, 252));
+  EXPECT_FALSE(emission.covers(131, 131));
+  EXPECT_FALSE(emission.covers(-1, 35));
+  EXPECT_FALSE(emission.covers(124, 256));
+  // mark() sets exactly covers() on a block's rays, wherever the block lies.
+  PrimaryBlock primary;
+  const PixelBlock straddling{101, 30, 109, 38};
+  primary.add(camera, filter, straddling, 0, 0);
+  EXPECT_TRUE(emission.mark(straddling, primary, 0));
+  for (int i = 0; i < straddling.pixel_count(); ++i)
+    EXPECT_EQ(primary.emission_apart()[i], emission.covers(101 + i % 8, 30 + i / 8)) << i;
+  const PixelBlock far_off{0, 248, 8, 256};
+  primary.add(camera, filter, far_off, 0, 0);
+  EXPECT_FALSE(emission.mark(far_off, primary, 64));
   // The light's cells and their neighbours: a few percent of the image.
   EXPECT_GT(emission.covered_cells(), 6u);
   EXPECT_LT(emission.covered_cells(), 64u);
@@ -117,8 +129,8 @@ TEST_P(EmitterImage, SplitsTheDirectEmissionWithoutBiasAndWithLessNoise) {
 
 INSTANTIATE_TEST_SUITE_P(CameraEmission, EmitterImage,
                          ::testing::Values(IntegratorKind::Path, IntegratorKind::Photon, IntegratorKind::Sppm),
-                         [](const ::testing::TestParamInfo<IntegratorKind>& info) {
-                           return std::string(integrator_name(info.param));
+                         [](const ::testing::TestParamInfo<IntegratorKind>& param_info) {
+                           return std::string(integrator_name(param_info.param));
                          });
 
 // Which pixels estimate emission apart depends on the pixel alone, never on the block or

@@ -191,8 +191,8 @@ BsdfEval BaseBsdf::eval_local(const Outgoing& out, const glm::vec3& wi) const {
   }
   BsdfEval e;
   if (!(wi.z > 0.0f) || (!diffuse_.exists() && !reflection_.rough())) return e;
-  const glm::vec3 h = reflection_half_vector(wo, wi);
-  const float cos_wo_h = glm::dot(wo, h);
+  const HalfVectorSum h = reflection_half_sum(wo, wi);
+  const float cos_wo_h = h.cos_with(wo);
   const glm::vec3 fr = mix_.reflectance(cos_wo_h);
   if (reflection_.rough()) {
     const glm::vec3 tint = mix_.specular_tint(cos_wo_h, fr);
@@ -203,7 +203,7 @@ BsdfEval BaseBsdf::eval_local(const Outgoing& out, const glm::vec3& wi) const {
       // transmission decides it there); without transmission r / (r + 0) = 1 for any r > 0.
       const float reflect = split_at_normal_       ? interface_split_at_normal(wo).reflect
                             : !has_transmission() ? (average(tint) > 0.0f ? 1.0f : 0.0f)
-                                                  : interface_split(wo, h, cos_wo_h, fr).reflect;
+                                                  : interface_split(wo, h.unit(), cos_wo_h, fr).reflect;
       e.pdf += lobes.interface * reflect * r.density;
     }
   }

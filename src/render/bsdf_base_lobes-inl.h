@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/geometric.hpp>
+#include <limits>
 #include <numbers>
 
 namespace lancer {
@@ -40,10 +41,20 @@ inline float ReflectionLobe::weight(const BaseFresnel& mix, float cos_wo_m, cons
   return exists_ ? base_lobes::average(mix.specular_tint(cos_wo_m, fr)) : 0.0f;
 }
 
-inline LobeValue ReflectionLobe::eval(const LobeOutgoing& out, const glm::vec3& wi, const glm::vec3& h,
+// With k = a^2 s.z^2 + s.x^2 + s.y^2 = |s|^2 ((n.h)^2 (a^2 - 1) + 1), D = a^2 |s|^4 / (pi k^2);
+// with r = sqrt(wi.z^2 + a^2 (wi.x^2 + wi.y^2)), Lambda(wi) = (r / wi.z - 1) / 2, so
+// G2 = 1 / (1 + Lambda(wo) + Lambda(wi)) = 2 wi.z / g, g = wi.z (1 + 2 Lambda(wo)) + r.
+// One division then gives both D / g and, times g, D: the value and the density share it.
+inline LobeValue ReflectionLobe::eval(const LobeOutgoing& out, const glm::vec3& wi, const HalfVectorSum& h,
                                       const glm::vec3& tint) const {
-  const float d = ggx_.d(h);
-  return {tint * (d * base_lobes::smith_g2(ggx_, out, wi) * out.inv_4cos_o), out.g1_o * d * out.inv_4cos_o};
+  const float a2 = ggx_.alpha() * ggx_.alpha();
+  const float k = a2 * h.s.z * h.s.z + (h.s.x * h.s.x + h.s.y * h.s.y);
+  const float r = std::sqrt(wi.z * wi.z + a2 * (wi.x * wi.x + wi.y * wi.y));
+  const float g = wi.z * (1.0f + 2.0f * out.lambda_o) + r;
+  // Lambda(wo) infinite (wo in the tangent plane up to a subnormal): G1 and G2 are 0.
+  if (!(g <= std::numeric_limits<float>::max())) return {};
+  const float d_over_g = a2 * h.len2 * h.len2 / (std::numbers::pi_v<float> * k * k * g);
+  return {tint * (d_over_g * (2.0f * wi.z) * out.inv_4cos_o), out.g1_o * (d_over_g * g) * out.inv_4cos_o};
 }
 
 inline std::optional<glm::vec3> ReflectionLobe::direction(const glm::vec3& wo, const glm::vec3& m) {

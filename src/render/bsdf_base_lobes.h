@@ -106,9 +106,10 @@ class ReflectionLobe {
   // Its share of the interface at a facet whose cos(wo, m) and fr are given (at m = n: its
   // albedo estimate, exact for the mirror).
   float weight(const BaseFresnel& mix, float cos_wo_m, const glm::vec3& fr) const;
-  // wi.z > 0 with half vector h and tint = specular_tint there: f * |cos(wi)| = tint D G2 / (4 |n.wo|),
-  // density G1(wo) D / (4 |n.wo|) (the visible-normal density times the reflection Jacobian).
-  LobeValue eval(const LobeOutgoing& out, const glm::vec3& wi, const glm::vec3& h, const glm::vec3& tint) const;
+  // wi.z > 0 with half vector h (as the sum of the pair) and tint = specular_tint there:
+  // f * |cos(wi)| = tint D G2 / (4 |n.wo|), density G1(wo) D / (4 |n.wo|) (the visible-normal
+  // density times the reflection Jacobian).
+  LobeValue eval(const LobeOutgoing& out, const glm::vec3& wi, const HalfVectorSum& h, const glm::vec3& tint) const;
   // The mirror's throughput at wo (smooth lobes only).
   glm::vec3 mirror_throughput(const BaseFresnel& mix, const glm::vec3& wo) const;
   // wi reflected through facet m; nullopt when it lies below the surface.

@@ -92,8 +92,8 @@ LobeProbe probe(const LobeCase& c, const BaseFresnel& mix, const GgxDistribution
       return {[=](glm::vec2 u) { return ReflectionLobe::direction(wo, ggx.sample_visible(wo, u)); },
               [=](const glm::vec3& wi) {
                 if (!(wi.z > 0.0f)) return LobeValue{};
-                const glm::vec3 h = reflection_half_vector(wo, wi);
-                const float cos_wo_h = glm::dot(wo, h);
+                const HalfVectorSum h = reflection_half_sum(wo, wi);
+                const float cos_wo_h = h.cos_with(wo);
                 return ReflectionLobe(mix, ggx).eval(out, wi, h, mix.specular_tint(cos_wo_h, mix.reflectance(cos_wo_h)));
               }};
     case Lobe::ThinWall: {
@@ -220,6 +220,63 @@ TEST(BaseLobes, WhiteDiffuseWithoutSpecularIsLambert) {
   const LobeValue v = DiffuseLobe(mix).eval(mix, wi, glm::vec3(0.5f));
   EXPECT_FLOAT_EQ(v.f.x, wi.z / std::numbers::pi_v<float>);
   EXPECT_FLOAT_EQ(v.density, wi.z / std::numbers::pi_v<float>);
+}
+
+// The reflection lobe's value and density from the unnormalised half vector (one division,
+// ReflectionLobe::eval) equal the textbook form with h normalised, computed in double: D(h)
+// G2 / (4 wo.z) and G1(wo) D(h) / (4 wo.z). Also where the pair is nearly opposite and grazing,
+// so that |wo + wi| is rescaled (HalfVectorSum), and at alphas from nearly smooth to 1.
+TEST(BaseLobes, ReflectionFromTheHalfVectorSumIsTheNormalisedForm) {
+  const BaseFresnel mix(inputs(glm::vec3(1.0f), 1.0f, 0.5f, 1.0f, 0.0f, false), true);
+  const auto reference = [](double a, const glm::dvec3& wo, const glm::dvec3& wi, double& density) {
+    const double a2 = a * a;
+    const glm::dvec3 h = glm::normalize(wo + wi);
+    const double k = a2 * h.z * h.z + h.x * h.x + h.y * h.y;
+    const double d = a2 / (std::numbers::pi * k * k);
+    const auto lambda = [&](const glm::dvec3& w) {
+      return 0.5 * (std::sqrt(w.z * w.z + a2 * (w.x * w.x + w.y * w.y)) / w.z - 1.0);
+    };
+    density = d / (1.0 + lambda(wo)) / (4.0 * wo.z);
+    return d / (1.0 + lambda(wo) + lambda(wi)) / (4.0 * wo.z);
+  };
+  std::vector<std::pair<glm::vec3, glm::vec3>> pairs;
+  SplitMix64 rng(7);
+  const auto uniform = [&] { return rng.uniform(); };
+  for (int i = 0; i < 200; ++i) {
+    const glm::vec3 wo = glm::normalize(glm::vec3(2.0f * uniform() - 1.0f, 2.0f * uniform() - 1.0f, uniform() + 1e-3f));
+    const glm::vec3 wi = glm::normalize(glm::vec3(2.0f * uniform() - 1.0f, 2.0f * uniform() - 1.0f, uniform() + 1e-3f));
+    pairs.push_back({wo, wi});
+  }
+  // Nearly opposite and grazing: |wo + wi|^2 about 1e-19, so that D's k^2 would fall below
+  // the normal floats without the rescaling.
+  const glm::vec3 grazing = glm::normalize(glm::vec3(1.0f, 0.0f, 1e-10f));
+  const glm::vec3 back = glm::normalize(glm::vec3(-1.0f, 3e-11f, 2e-10f));
+  ASSERT_LT(glm::dot(grazing + back, grazing + back), 0x1p-60f);
+  pairs.push_back({grazing, back});
+  pairs.push_back({back, grazing});
+  int compared = 0;
+  for (const float alpha : {2e-3f, 0.05f, 0.3f, 1.0f}) {
+    const GgxDistribution ggx(alpha);
+    const ReflectionLobe lobe(mix, ggx);
+    for (const auto& [wo, wi] : pairs) {
+      LobeOutgoing out;
+      out.lo = wo;
+      out.lambda_o = ggx.lambda(wo);
+      out.g1_o = 1.0f / (1.0f + out.lambda_o);
+      out.inv_4cos_o = 1.0f / (4.0f * wo.z);
+      const HalfVectorSum h = reflection_half_sum(wo, wi);
+      EXPECT_NEAR(h.cos_with(wo), glm::dot(glm::dvec3(wo), glm::normalize(glm::dvec3(wo) + glm::dvec3(wi))), 2e-6);
+      const LobeValue v = lobe.eval(out, wi, h, glm::vec3(1.0f));
+      double density = 0.0;
+      const double f = reference(alpha, glm::dvec3(wo), glm::dvec3(wi), density);
+      // Relative to the value, and absolutely where the float inputs' rounding dominates a
+      // value near 0 (far in the tail of a narrow lobe).
+      EXPECT_NEAR(v.f.x, f, 1e-4 * f + 1e-30) << "alpha " << alpha << " wo.z " << wo.z << " wi.z " << wi.z;
+      EXPECT_NEAR(v.density, density, 1e-4 * density + 1e-30) << "alpha " << alpha;
+      ++compared;
+    }
+  }
+  EXPECT_EQ(compared, 4 * 202);
 }
 
 // Which lobes a material has follows its inputs, one type each.

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -191,6 +192,121 @@ TEST(CameraEmission, LeavesASurfaceOfPartialCoverageToThePath) {
   EXPECT_GT(emission_rays[1], 0u);
   EXPECT_EQ(images[0].rgb, images[1].rgb);
   EXPECT_GT(images[0].at(12, 12).x, 0.0f);
+}
+
+// The estimate counts emission only toward the sides the material emits to (glTF 2.0,
+// "Double Sided"), as the path does: a single-sided emitter that is a volume boundary
+// (thickness > 0, so its back face is not culled) seen from behind shows nothing, with or
+// without the estimate, although its pixels are chosen (they see an emissive material); made
+// double-sided, its back shows the radiance, both ways alike.
+TEST(CameraEmission, CountsEmissionOnlyTowardTheSidesThatEmit) {
+  constexpr int kSize = 24;
+  for (const bool double_sided : {false, true}) {
+    Material glow = test::emissive_material(glm::vec3(2.0f, 1.0f, 0.5f));
+    glow.thickness = 0.1f;
+    glow.double_sided = double_sided;
+    Scene scene;
+    test::add_square_z(scene, 0.0f, 0.0f, -3.0f, 0.5f, /*facing_up=*/false, test::add_material(scene, glow));
+    const KdTree kd(scene.triangles);
+    const PinholeCamera camera = PinholeCamera::look_at(glm::vec3(0.0f), glm::vec3(0.0f, 0.0f, -1.0f),
+                                                        glm::vec3(0.0f, 1.0f, 0.0f), 0.8f, kSize, kSize);
+    RenderSettings s;
+    s.width = s.height = kSize;
+    s.spp = 8;
+    s.threads = 2;
+    double sum[2] = {0.0, 0.0};
+    std::uint64_t emission_rays[2] = {0, 0};
+    for (int with = 0; with < 2; ++with) {
+      s.emitter_samples = with ? 4 : 0;
+      RenderStats stats;
+      const ImageRGB image = render_image(scene, kd, camera, s, stats);
+      emission_rays[with] = stats.path_batches.emission_rays;
+      for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x) sum[with] += image.at(x, y).x;
+    }
+    EXPECT_EQ(emission_rays[0], 0u);
+    EXPECT_GT(emission_rays[1], 0u) << "the back-facing emitter's pixels are chosen";
+    if (!double_sided) {
+      EXPECT_EQ(sum[0], 0.0);
+      EXPECT_EQ(sum[1], 0.0);
+    } else {
+      EXPECT_GT(sum[0], 0.0);
+      EXPECT_NEAR(sum[1], sum[0], 0.01 * sum[0]);
+    }
+  }
+}
+
+// A camera sliding along x while the shutter is open sees an emissive square move across
+// its image: each pixel's exact value is the radiance times the square's coverage of it
+// averaged over the shutter. The estimate's camera rays take their samples' times and move
+// with the camera (camera_ray, which the paths use too), so with the estimate the image
+// stays the exact one up to noise, and the per-pixel error falls; rays made where the camera
+// was at the opening would show the square unblurred, far from it.
+TEST(CameraEmission, FollowsAMovingCamera) {
+  constexpr int kSize = 32;
+  constexpr float kHalfPixels = 5.3f;
+  const glm::vec3 radiance(2.0f, 1.0f, 0.5f);
+  const float vfov = 0.8f, distance = 3.0f, slide = 1.0f;
+  const float focal = 0.5f * kSize / std::tan(0.5f * vfov);  // pixels per unit at distance 1
+  const float half = kHalfPixels * distance / focal;
+  const double shift = slide * focal / distance;  // pixels the square moves left over the shutter
+  Scene scene;
+  test::add_square_z(scene, 0.0f, 0.0f, -distance, half, true, test::add_material(scene, test::emissive_material(radiance)));
+  const KdTree kd(scene.triangles);
+  CameraDesc desc;
+  desc.yfov = vfov;
+  for (const float x : {0.0f, slide}) {
+    MotionKey key;
+    key.translation = glm::vec3(x, 0.0f, 0.0f);
+    desc.motion.push_back(key);
+  }
+  PinholeCamera camera = PinholeCamera::from_desc(desc, kSize, kSize);
+  camera.set_shutter_open(true);
+  ASSERT_TRUE(camera.moves());
+  const auto overlap = [](double p, double lo, double hi) {
+    return std::max(0.0, std::min(p + 1.0, hi) - std::max(p, lo));
+  };
+  std::vector<double> exact(kSize * kSize, 0.0);
+  constexpr int kSteps = 4096;
+  for (int x = 0; x < kSize; ++x) {
+    double blurred = 0.0;  // the x coverage, averaged over the shutter
+    for (int k = 0; k < kSteps; ++k) {
+      const double centre = 0.5 * kSize - shift * (k + 0.5) / kSteps;
+      blurred += overlap(x, centre - kHalfPixels, centre + kHalfPixels) / kSteps;
+    }
+    for (int y = 0; y < kSize; ++y)
+      exact[y * kSize + x] = radiance.x * blurred * overlap(y, 0.5 * kSize - kHalfPixels, 0.5 * kSize + kHalfPixels);
+  }
+  RenderSettings s;
+  s.width = s.height = kSize;
+  s.spp = 16;
+  s.threads = 2;
+  s.max_depth = 1;
+  double error[2] = {0.0, 0.0}, sum[2] = {0.0, 0.0}, exact_sum = 0.0;
+  for (const double e : exact) exact_sum += e;
+  for (int with = 0; with < 2; ++with) {
+    s.emitter_samples = with ? 4 : 0;
+    for (std::uint64_t seed = 0; seed < 4; ++seed) {
+      s.seed = seed;
+      RenderStats stats;
+      const ImageRGB image = render_image(scene, kd, camera, s, stats);
+      if (with) EXPECT_GT(stats.path_batches.emission_rays, 0u);
+      for (int y = 0; y < kSize; ++y)
+        for (int x = 0; x < kSize; ++x) {
+          const double got = image.at(x, y).x, want = exact[y * kSize + x];
+          error[with] += (got - want) * (got - want);
+          sum[with] += got / 4.0;
+        }
+    }
+  }
+  std::printf("[ info     ] moving camera: sums %.2f and %.2f against %.2f, squared error %.3f and %.3f\n", sum[0],
+              sum[1], exact_sum, error[0], error[1]);
+  // Four standard deviations of the mean image's sum: each image's sum varies by about the
+  // root of its squared error (over a quarter of the total), the mean of four by half that.
+  EXPECT_NEAR(sum[0], exact_sum, std::sqrt(error[0]));
+  EXPECT_NEAR(sum[1], exact_sum, std::sqrt(error[1]));
+  EXPECT_GT(error[0], 0.0);
+  EXPECT_LT(error[1], error[0] / 2.0);
 }
 
 }  // namespace

@@ -36,8 +36,7 @@ inline glm::vec3 Bsdf::oriented_local(const ShadingFrame& frame, bool flipped, c
 }
 
 Bsdf::Outgoing Bsdf::outgoing(const glm::vec3& wo) const {
-  Outgoing out;
-  out.base = base_.outgoing(wo);
+  Outgoing out{.base = base_.outgoing(wo)};  // built in place, not assigned over a default
   if (!layered_ || !out.base.valid) return out;
   float e_coat = 0.0f, e_sheen = 0.0f;
   if (coat_.exists()) {

@@ -42,13 +42,6 @@ ShadingFrame ShadingFrame::from_normal_tangent(const glm::vec3& n, const glm::ve
   return {tangent, glm::cross(n, tangent), n};
 }
 
-ShadingFrame ShadingFrame::from_orthonormal(const glm::vec3& n, const glm::vec3& t) {
-  return {t, glm::cross(n, t), n};
-}
-
-glm::vec3 ShadingFrame::to_local(const glm::vec3& v) const { return {glm::dot(v, t), glm::dot(v, b), glm::dot(v, n)}; }
-
-glm::vec3 ShadingFrame::to_world(const glm::vec3& v) const { return v.x * t + v.y * b + v.z * n; }
 
 // ---- BaseBsdf --------------------------------------------------------------------------
 

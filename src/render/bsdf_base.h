@@ -92,6 +92,7 @@
 #include <optional>
 
 #include <glm/vec2.hpp>
+#include <glm/geometric.hpp>
 #include <glm/vec3.hpp>
 
 #include "render/bsdf_base_lobes.h"
@@ -110,10 +111,12 @@ struct ShadingFrame {
   // (nearly) parallel to n or not finite.
   static ShadingFrame from_normal_tangent(const glm::vec3& n, const glm::vec3& t);
   // The frame of a tangent already unit and orthogonal to n (ShadingInputs' tangent): no
-  // second projection, no square root.
-  static ShadingFrame from_orthonormal(const glm::vec3& n, const glm::vec3& t);
-  glm::vec3 to_local(const glm::vec3& v) const;
-  glm::vec3 to_world(const glm::vec3& v) const;
+  // second projection, no square root. (Inline, as the two below: every shading point and
+  // every direction it evaluates goes through them; out of line each returned its result
+  // through memory.)
+  static ShadingFrame from_orthonormal(const glm::vec3& n, const glm::vec3& t) { return {t, glm::cross(n, t), n}; }
+  glm::vec3 to_local(const glm::vec3& v) const { return {glm::dot(v, t), glm::dot(v, b), glm::dot(v, n)}; }
+  glm::vec3 to_world(const glm::vec3& v) const { return v.x * t + v.y * b + v.z * n; }
 };
 
 // Everything the BSDF needs at one shading point, already evaluated (textures applied by the caller).

@@ -61,10 +61,14 @@ void PathIntegrator::radiance_block(const Ray* rays, const Hit* hits, SobolSampl
     scratch.next_live.clear();
     scratch.next_rays.clear();
     scratch.next_leaves.clear();
+    // The hits' points and normals first, several per vector.
+    scratch.geometry.resize(scratch.live.size());
+    surface_geometry(scene_, scratch.rays.data(), scratch.hits.data(), static_cast<int>(scratch.live.size()),
+                     scratch.geometry.data());
     for (std::size_t k = 0; k < scratch.live.size(); ++k) {
       const int index = scratch.live[k];
-      if (bounce(scratch.paths[static_cast<std::size_t>(index)], index, scratch.rays[k], scratch.hits[k], scratch,
-                 ray_count))
+      if (bounce(scratch.paths[static_cast<std::size_t>(index)], index, scratch.rays[k], scratch.hits[k],
+                 scratch.geometry[k], scratch, ray_count))
         scratch.next_live.push_back(index);
     }
     // Every ray's origin, in one batch: its bound evaluated for several rays per vector.
@@ -201,8 +205,8 @@ void PathIntegrator::trace_shadows(Scratch& scratch) const {
   for (std::size_t j = 0; j < n; ++j) scratch.blocked[g.order[j]] = sorted[j];
 }
 
-bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hit, Scratch& scratch,
-                            std::uint64_t& ray_count) const {
+bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hit, const SurfaceGeometry& geometry,
+                            Scratch& scratch, std::uint64_t& ray_count) const {
   SobolSampler& sampler = *path.sampler;
   glm::vec3& L = path.L;
   glm::vec3& beta = path.beta;
@@ -221,7 +225,7 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
     return false;
   }
   if (path.in_volume) beta *= glm::exp(-path.sigma_a * (hit.t * dir_length));
-  const ShadingInputs si = evaluate_shading(scene_, ray, hit);
+  const ShadingInputs si = evaluate_shading(scene_, ray, hit, &geometry);
   // The dimensions of one bounce: a fixed layout whatever is used, each value computed
   // only where it is used.
   const std::uint32_t dims = sampler.dimension();

@@ -29,6 +29,7 @@
 #include "accel/ray_offset_batch.h"
 #include "render/caustic_map.h"
 #include "render/shadow_ray.h"
+#include "render/surface_batch.h"
 #include "render/environment.h"
 #include "render/lights.h"
 #include "render/render_settings.h"
@@ -77,8 +78,8 @@ class PathIntegrator {
   // (with what each adds if unoccluded) and, when the path goes on, its continuation ray;
   // or, where the surface's coverage lets the ray through (render/coverage.h), only the
   // ray continued past it. Returns whether the path goes on.
-  bool bounce(Path& path, int index, const Ray& ray, const Hit& hit, Scratch& scratch,
-              std::uint64_t& ray_count) const;
+  bool bounce(Path& path, int index, const Ray& ray, const Hit& hit, const SurfaceGeometry& geometry,
+              Scratch& scratch, std::uint64_t& ray_count) const;
   // Closest hits of scratch.rays into scratch.hits, and whether scratch.shadows[k] is
   // occluded into scratch.blocked[k]: the rays grouped by octant, big groups as packets.
   void trace_batch(Scratch& scratch) const;
@@ -143,6 +144,7 @@ struct PathIntegrator::Scratch {
   std::vector<OriginRequest> origin_requests;  // the bounce's origins: shadows, then next_rays
   std::vector<glm::vec3> origins;
   std::vector<Hit> hits;
+  std::vector<SurfaceGeometry> geometry;  // of `hits`, in vectors (surface_batch.h)
   std::vector<Shadow> shadows;  // the bounce's shadow rays, path by path in order
   OctantGroups groups;  // the batch being traced, by octant
   // Per shadow ray: occluded, in queue order, then in groups' order (plain bools, as the

@@ -90,10 +90,10 @@ float surface_coverage(const Scene& scene, const Ray& ray, const Hit& hit) {
   return coverage(m, alpha);
 }
 
-ShadingInputs evaluate_shading(const Scene& scene, const Ray& ray, const Hit& hit) {
+ShadingInputs evaluate_shading(const Scene& scene, const Ray& ray, const Hit& hit, const SurfaceGeometry* geometry) {
   // Geometry exactly as the Whitted integrator sees it.
   const DrawnInstance drawn(scene, hit.instance, ray.time);
-  const SurfacePoint sp = make_surface_point(scene, ray, hit, drawn.get());
+  const SurfacePoint sp = make_surface_point(scene, ray, hit, drawn.get(), geometry);
   const std::size_t tri = hit.prim;
   const float w = 1.0f - hit.u - hit.v, u = hit.u, v = hit.v;
   const std::uint8_t flags = tri < scene.attrib_flags.size() ? scene.attrib_flags[tri] : 0;

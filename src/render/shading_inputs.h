@@ -44,6 +44,7 @@
 
 #include "accel/ray.h"
 #include "render/drawn_triangle.h"
+#include "render/surface_batch.h"
 #include "scene/scene.h"
 
 namespace lancer {
@@ -104,8 +105,10 @@ inline bool culls_back_faces(const Material& m) { return !m.double_sided && is_t
 // ("double-sided lighting is enabled"), a single-sided one from its front only.
 inline bool emits_toward(const Material& m, bool front_face) { return front_face || m.double_sided; }
 
-// `hit` must be valid and come from `ray` against `scene.triangles`.
-ShadingInputs evaluate_shading(const Scene& scene, const Ray& ray, const Hit& hit);
+// `hit` must be valid and come from `ray` against `scene.triangles`. `geometry`: the hit's
+// surface_geometry (render/surface_batch.h), or null.
+ShadingInputs evaluate_shading(const Scene& scene, const Ray& ray, const Hit& hit,
+                               const SurfaceGeometry* geometry = nullptr);
 
 // Where rays leave the shading point: leaving_offset (drawn_triangle.h) for its triangle,
 // with the instance as evaluate_shading already moved it to the ray's time.

@@ -29,8 +29,21 @@ SurfacePoint make_surface_point(const Scene& scene, const Ray& ray, const Hit& h
   return make_surface_point(scene, ray, hit, drawn.get());
 }
 
-SurfacePoint make_surface_point(const Scene& scene, const Ray& ray, const Hit& hit, const Instance* inst) {
+SurfacePoint make_surface_point(const Scene& scene, const Ray& ray, const Hit& hit, const Instance* inst,
+                                const SurfaceGeometry* geometry) {
   const std::uint32_t i = hit.prim;
+  if (geometry && geometry->valid) {  // surface_batch-inl.h did the arithmetic below
+    SurfacePoint sp;
+    sp.prim = i;
+    sp.instance = hit.instance;
+    sp.p = geometry->p;
+    sp.ng = geometry->ng;
+    sp.ns = geometry->ns;
+    sp.front_face = geometry->front_face;
+    sp.material = &scene.materials[scene.material_id[i]];
+    sp.base_color = base_color_at(scene, *sp.material, i, hit.u, hit.v);
+    return sp;
+  }
   const TriangleCorners corners = drawn_corners(scene, i, inst);
   const glm::vec3 a = corners[0], b = corners[1], c = corners[2];
   const float w = 1.0f - hit.u - hit.v;

@@ -6,6 +6,7 @@
 #include <glm/vec3.hpp>
 
 #include "accel/ray.h"
+#include "render/surface_batch.h"
 #include "scene/scene.h"
 
 namespace lancer {
@@ -33,8 +34,10 @@ bool hits_front_face(const Scene& scene, std::uint32_t prim, std::uint32_t insta
 // `hit` must be valid and come from `ray` against the scene's triangles (and instances).
 SurfacePoint make_surface_point(const Scene& scene, const Ray& ray, const Hit& hit);
 // The same with the hit's instance as drawn at the ray's time already at hand
-// (DrawnInstance::get(), render/drawn_triangle.h; null in world space).
-SurfacePoint make_surface_point(const Scene& scene, const Ray& ray, const Hit& hit, const Instance* drawn);
+// (DrawnInstance::get(), render/drawn_triangle.h; null in world space), and optionally its
+// geometry already computed by surface_geometry (render/surface_batch.h; when valid).
+SurfacePoint make_surface_point(const Scene& scene, const Ray& ray, const Hit& hit, const Instance* drawn,
+                                const SurfaceGeometry* geometry = nullptr);
 
 // Base colour of material `m` at barycentrics (u, v) of triangle `prim`, linear RGB:
 // the material's factor only. Every integrator shades with evaluate_shading() in

@@ -1,0 +1,18 @@
+// The batch surface solver for sse4: 2 doubles per vector. Built with this ISA's flags only
+// (lancer_isa_sources in src/render/CMakeLists.txt); elsewhere it is empty.
+#if defined(__x86_64__) || defined(_M_X64)
+
+#define LANCER_ISA sse4
+#define LANCER_SURFACE_LANES 2
+#include "simd/vfloat4_sse4.h"
+#include "render/surface_batch-inl.h"
+
+namespace lancer::sse4 {
+
+std::uint64_t solve_surface_lanes(const surface_batch::Lanes& lanes, int count, surface_batch::Out& out) {
+  return solve_surface_lanes_impl(lanes, count, out);
+}
+
+}  // namespace lancer::sse4
+
+#endif

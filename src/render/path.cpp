@@ -61,7 +61,19 @@ void PathIntegrator::radiance_block(const Ray* rays, const Hit* hits, SobolSampl
     scratch.next_live.clear();
     scratch.next_rays.clear();
     scratch.next_leaves.clear();
-    // The hits' points and normals first, several per vector.
+    // The hits' points and normals first, and the values the bounce draws, several per vector.
+    scratch.draws.clear();
+    for (std::size_t k = 0; k < scratch.live.size(); ++k) {
+      if (!scratch.hits[k].valid()) continue;
+      AheadRequest& r = scratch.draws.emplace_back();
+      r.sampler = scratch.paths[static_cast<std::size_t>(scratch.live[k])].sampler;
+      const std::uint32_t dims = r.sampler->dimension();
+      r.dim1[0] = dims + kLightPickDimension;
+      r.dim1[1] = dims + kRouletteDimension;
+      r.dim2[0] = dims + kLightPointDimensions;
+      r.dim2[1] = dims + kBsdfDimensions;
+    }
+    draw_ahead(scratch.draws.data(), static_cast<int>(scratch.draws.size()));
     scratch.geometry.resize(scratch.live.size());
     surface_geometry(scene_, scratch.rays.data(), scratch.hits.data(), static_cast<int>(scratch.live.size()),
                      scratch.geometry.data());

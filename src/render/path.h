@@ -29,6 +29,7 @@
 #include "accel/ray_offset_batch.h"
 #include "render/caustic_map.h"
 #include "render/shadow_ray.h"
+#include "render/sobol_batch.h"
 #include "render/surface_batch.h"
 #include "render/environment.h"
 #include "render/lights.h"
@@ -145,6 +146,7 @@ struct PathIntegrator::Scratch {
   std::vector<glm::vec3> origins;
   std::vector<Hit> hits;
   std::vector<SurfaceGeometry> geometry;  // of `hits`, in vectors (surface_batch.h)
+  std::vector<AheadRequest> draws;        // the live paths' bounce values, drawn in vectors (sobol_batch.h)
   std::vector<Shadow> shadows;  // the bounce's shadow rays, path by path in order
   OctantGroups groups;  // the batch being traced, by octant
   // Per shadow ray: occluded, in queue order, then in groups' order (plain bools, as the

@@ -41,6 +41,10 @@ std::uint32_t reversed_sobol_dimension1(std::uint32_t reversed_index) {
   return t[0][r & 0xFFu] ^ t[1][(r >> 8) & 0xFFu] ^ t[2][(r >> 16) & 0xFFu] ^ t[3][r >> 24];
 }
 
+const std::uint32_t* reversed_second_dimension_table(int k) {
+  return kReversedSecondDimension[static_cast<std::size_t>(k)].data();
+}
+
 std::uint32_t sobol_dimension1(std::uint32_t index) {
   return reverse_bits(reversed_sobol_dimension1(reverse_bits(index)));
 }
@@ -74,14 +78,14 @@ std::uint64_t SobolSampler::set_hash(std::uint32_t dim, std::uint64_t key) {
 //   dimension 0:    owen_scramble(sobol_dimension0(i'), t) = R P(R R i', t) = R P(R y, t);
 //   dimension 1:    owen_scramble(C i', t) = R P(R C R y, t) = R P(reversed_sobol_dimension1(y), t).
 // The values are bit for bit the same (SobolSampler tests).
-float SobolSampler::get1(std::uint32_t dim) const {
+float SobolSampler::compute1(std::uint32_t dim) const {
   const auto shuffle = static_cast<std::uint32_t>(set_hash(dim, shuffle_key_));
   const auto scramble = static_cast<std::uint32_t>(set_hash(dim, scramble_key_));
   const std::uint32_t y = sobol::laine_karras_permutation(reversed_index_, shuffle);
   return sobol::to_unit_float(sobol::reverse_bits(sobol::laine_karras_permutation(sobol::reverse_bits(y), scramble)));
 }
 
-glm::vec2 SobolSampler::get2(std::uint32_t dim) const {
+glm::vec2 SobolSampler::compute2(std::uint32_t dim) const {
   const auto shuffle = static_cast<std::uint32_t>(set_hash(dim, shuffle_key_));
   const std::uint64_t scramble = set_hash(dim, scramble_key_);  // two 32-bit seeds
   const std::uint32_t y = sobol::laine_karras_permutation(reversed_index_, shuffle);

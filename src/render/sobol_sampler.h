@@ -99,14 +99,43 @@ class SobolSampler {
   void skip(std::uint32_t count) { dimension_ += count; }
 
   // The value next1() gives when dimension() is `dim`, and next2()'s for dims dim, dim + 1:
-  // pure functions of the dimension, whatever was drawn before.
-  float get1(std::uint32_t dim) const;
-  glm::vec2 get2(std::uint32_t dim) const;
+  // pure functions of the dimension, whatever was drawn before. Values drawn ahead
+  // (take_ahead) are returned as they are: they are the same values.
+  float get1(std::uint32_t dim) const {
+    if (dim == ahead_.dim1[0]) return ahead_.v1[0];
+    if (dim == ahead_.dim1[1]) return ahead_.v1[1];
+    return compute1(dim);
+  }
+  glm::vec2 get2(std::uint32_t dim) const {
+    if (dim == ahead_.dim2[0]) return ahead_.v2[0];
+    if (dim == ahead_.dim2[1]) return ahead_.v2[1];
+    return compute2(dim);
+  }
 
   // The next dimension to be consumed (next1 advances it by 1, next2 by 2).
   std::uint32_t dimension() const { return dimension_; }
 
+  // Drawing ahead (render/sobol_batch.h: many samplers' values at once, several per
+  // vector): what the batch reads of this sampler, and the values it leaves here, which
+  // get1(dim1[k]) and get2(dim2[k]) then return (kNoDimension: none).
+  static constexpr std::uint32_t kNoDimension = 0xFFFFFFFFu;
+  struct Keys {
+    std::uint64_t shuffle, scramble;
+    std::uint32_t reversed_index;
+  };
+  Keys keys() const { return {shuffle_key_, scramble_key_, reversed_index_}; }
+  void take_ahead(const std::uint32_t dim1[2], const float v1[2], const std::uint32_t dim2[2], const glm::vec2 v2[2]) {
+    for (int k = 0; k < 2; ++k) {
+      ahead_.dim1[k] = dim1[k];
+      ahead_.v1[k] = v1[k];
+      ahead_.dim2[k] = dim2[k];
+      ahead_.v2[k] = v2[k];
+    }
+  }
+
  private:
+  float compute1(std::uint32_t dim) const;
+  glm::vec2 compute2(std::uint32_t dim) const;
   // 64 hashed bits for dimension set `dim` of this pixel's stream `key` (shuffle or scramble).
   static std::uint64_t set_hash(std::uint32_t dim, std::uint64_t key);
 
@@ -114,6 +143,17 @@ class SobolSampler {
   std::uint64_t scramble_key_ = 0;  // the value scrambles' stream
   std::uint32_t reversed_index_ = 0;  // reverse_bits(sample index)
   std::uint32_t dimension_ = 0;
+  struct Ahead {
+    std::uint32_t dim1[2] = {kNoDimension, kNoDimension};
+    float v1[2] = {0.0f, 0.0f};
+    std::uint32_t dim2[2] = {kNoDimension, kNoDimension};
+    glm::vec2 v2[2] = {glm::vec2(0.0f), glm::vec2(0.0f)};
+  } ahead_;
 };
+
+namespace sobol {
+// reversed_sobol_dimension1's byte table k (0 to 3, 256 entries), for the batch draw.
+const std::uint32_t* reversed_second_dimension_table(int k);
+}  // namespace sobol
 
 }  // namespace lancer

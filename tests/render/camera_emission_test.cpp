@@ -290,7 +290,9 @@ TEST(CameraEmission, FollowsAMovingCamera) {
       s.seed = seed;
       RenderStats stats;
       const ImageRGB image = render_image(scene, kd, camera, s, stats);
-      if (with) EXPECT_GT(stats.path_batches.emission_rays, 0u);
+      if (with) {
+        EXPECT_GT(stats.path_batches.emission_rays, 0u);
+      }
       for (int y = 0; y < kSize; ++y)
         for (int x = 0; x < kSize; ++x) {
           const double got = image.at(x, y).x, want = exact[y * kSize + x];

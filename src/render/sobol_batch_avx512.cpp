@@ -1,0 +1,18 @@
+// The batch Sobol' draw for avx512: 8 samplers per vector. Built with this ISA's flags only
+// (lancer_isa_sources in src/render/CMakeLists.txt); elsewhere it is empty.
+#if defined(__x86_64__) || defined(_M_X64)
+
+#define LANCER_ISA avx512
+#define LANCER_SOBOL_LANES 8
+#include "simd/vfloat16_avx512.h"
+#include "render/sobol_batch-inl.h"
+
+namespace lancer::avx512 {
+
+void draw_sobol_lanes(const sobol_batch::Lanes& lanes, int count, sobol_batch::Out& out) {
+  draw_sobol_lanes_impl(lanes, count, out);
+}
+
+}  // namespace lancer::avx512
+
+#endif

@@ -53,7 +53,10 @@ inline LobeValue ReflectionLobe::eval(const LobeOutgoing& out, const glm::vec3& 
   const float g = wi.z * (1.0f + 2.0f * out.lambda_o) + r;
   // Lambda(wo) infinite (wo in the tangent plane up to a subnormal): G1 and G2 are 0.
   if (!(g <= std::numeric_limits<float>::max())) return {};
-  const float d_over_g = a2 * h.len2 * h.len2 / (std::numbers::pi_v<float> * k * k * g);
+  const float d_num = a2 * h.len2 * h.len2, d_den = std::numbers::pi_v<float> * k * k;
+  // Where wo grazes to within about 1e-30, g is so large that d_den g would overflow: two
+  // divisions there.
+  const float d_over_g = g < 0x1p100f ? d_num / (d_den * g) : d_num / d_den / g;
   return {tint * (d_over_g * (2.0f * wi.z) * out.inv_4cos_o), out.g1_o * (d_over_g * g) * out.inv_4cos_o};
 }
 

@@ -44,10 +44,11 @@
 
 #include "accel/ray.h"
 #include "render/drawn_triangle.h"
-#include "render/surface_batch.h"
 #include "scene/scene.h"
 
 namespace lancer {
+
+struct SurfaceGeometry;  // render/surface_batch.h
 
 struct ShadingInputs {
   glm::vec3 p{0.0f};

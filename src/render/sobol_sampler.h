@@ -102,13 +102,17 @@ class SobolSampler {
   // pure functions of the dimension, whatever was drawn before. Values drawn ahead
   // (take_ahead) are returned as they are: they are the same values.
   float get1(std::uint32_t dim) const {
-    if (dim == ahead_.dim1[0]) return ahead_.v1[0];
-    if (dim == ahead_.dim1[1]) return ahead_.v1[1];
+    if (dim != kNoDimension) {
+      if (dim == ahead_.dim1[0]) return ahead_.v1[0];
+      if (dim == ahead_.dim1[1]) return ahead_.v1[1];
+    }
     return compute1(dim);
   }
   glm::vec2 get2(std::uint32_t dim) const {
-    if (dim == ahead_.dim2[0]) return ahead_.v2[0];
-    if (dim == ahead_.dim2[1]) return ahead_.v2[1];
+    if (dim != kNoDimension) {
+      if (dim == ahead_.dim2[0]) return ahead_.v2[0];
+      if (dim == ahead_.dim2[1]) return ahead_.v2[1];
+    }
     return compute2(dim);
   }
 

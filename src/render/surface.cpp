@@ -5,6 +5,7 @@
 #include <glm/geometric.hpp>
 
 #include "render/drawn_triangle.h"
+#include "render/surface_batch.h"
 
 namespace lancer {
 

@@ -6,10 +6,11 @@
 #include <glm/vec3.hpp>
 
 #include "accel/ray.h"
-#include "render/surface_batch.h"
 #include "scene/scene.h"
 
 namespace lancer {
+
+struct SurfaceGeometry;  // render/surface_batch.h
 
 struct SurfacePoint {
   glm::vec3 p{0.0f};   // from the barycentrics of the hit

@@ -92,7 +92,7 @@ inline std::uint64_t solve_vector(const surface_batch::Lanes& L, int o, int vali
   for (int k = 0; k < 3; ++k) ns[k] = use_interp ? interp[k] / ilen : ng[k];
 
   // Flipped to face the ray.
-  const vi front = ((ng[0] * d[0] + ng[1] * d[1]) + ng[2] * d[2]) < 0.0f;
+  const vi front = ((ng[0] * d[0] + ng[1] * d[1]) + ng[2] * d[2]) <= 0.0f;
   for (int k = 0; k < 3; ++k) {
     ng[k] = front ? ng[k] : -ng[k];
     ns[k] = front ? ns[k] : -ns[k];

@@ -80,6 +80,9 @@ TEST(SobolBatchScalar, AheadValuesServeTheirDimensionsOnly) {
   EXPECT_TRUE(same(s.get1(20), plain.get1(20)));
   EXPECT_TRUE(same(s.get2(10).x, plain.get2(10).x));
   EXPECT_TRUE(same(s.get1(12), plain.get1(12)));
+  // The marker of an empty entry is computed like any dimension, not taken for a value.
+  const SobolSampler fresh(3, 4, 5, 6);
+  EXPECT_NE(fresh.get1(SobolSampler::kNoDimension), 0.0f);
 }
 
 INSTANTIATE_TEST_SUITE_P(AllIsas, SobolBatch, ::testing::Values(Isa::Scalar, Isa::Sse4, Isa::Avx2, Isa::Avx512),

@@ -78,6 +78,26 @@ Case make_case(std::uint64_t seed, int count) {
     c.rays.push_back(ray);
     c.hits.push_back(hit);
   }
+  // Rays along the surface: the wall 2x - y = 0 and directions in its plane, whose dot
+  // with the normal is exactly 0 (2 / len and 1 / len differ by exactly a factor 2), the
+  // side make_surface_point calls the front.
+  for (int j = 0; j < 8; ++j) {
+    const std::size_t i = c.scene.triangles.size();
+    c.scene.triangles.push_back(glm::vec3(0.0f), glm::vec3(1.0f, 2.0f, 0.0f), glm::vec3(0.0f, 0.0f, 1.0f));
+    c.scene.material_id.push_back(0);
+    c.scene.attrib_flags.push_back(j % 2 ? kHasNormals : 0);
+    for (int k = 0; k < 3; ++k) c.scene.normals.push_back(j % 2 ? unit(rng) : glm::vec3(0.0f));
+    Hit hit;
+    hit.prim = static_cast<std::uint32_t>(i);
+    hit.t = 1.0f;
+    hit.u = 0.25f;
+    hit.v = 0.5f;
+    Ray ray;
+    ray.dir = j < 4 ? glm::vec3(1.0f, 2.0f, 0.5f * float(j + 1)) : glm::vec3(-1.0f, -2.0f, -0.25f * float(j));
+    ray.org = glm::vec3(0.25f, 0.5f, 0.5f) - ray.dir;
+    c.rays.push_back(ray);
+    c.hits.push_back(hit);
+  }
   return c;
 }
 
@@ -121,6 +141,11 @@ TEST_P(SurfaceBatch, GivesMakeSurfacePointsGeometryBitForBit) {
     // The triangles without a usable normal length are left (1 in 50), and still valid
     // through make_surface_point's fallback.
     EXPECT_FALSE(geometry[7].valid);
+    // The rays along the wall are computed, and called front faces as make_surface_point does.
+    for (int i = n - 8; i < n; ++i) {
+      EXPECT_TRUE(geometry[static_cast<std::size_t>(i)].valid) << i;
+      EXPECT_TRUE(geometry[static_cast<std::size_t>(i)].front_face) << i;
+    }
   }
 }
 

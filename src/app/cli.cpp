@@ -47,7 +47,7 @@ void add_kd_split_option(CLI::App& app, std::string& split) {
 }
 
 void add_isa_option(CLI::App& app, std::string& isa) {
-  app.add_option("--isa", isa, "Instruction set for the kd-tree kernels: scalar, sse4, avx2 or avx512")
+  app.add_option("--isa", isa, "Instruction set for the kd-tree kernels and the path tracer's vector passes: scalar, sse4, avx2 or avx512")
       ->check(CLI::IsMember({"scalar", "sse4", "avx2", "avx512"}))
       ->default_str(std::string(isa_name(best_supported_isa())) + " (the best this CPU runs)");
 }

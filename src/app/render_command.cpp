@@ -189,6 +189,7 @@ int run_render(const RenderOptions& options, std::ostream& out, std::ostream& er
                                   " is too large (at most 2^28 pixels)");
 
     const Isa isa = isa_from(opt.isa);
+    if (!opt.isa.empty()) s.vector_isa = isa;  // the path tracer's vector passes follow --isa too
     const auto t_build = std::chrono::steady_clock::now();
     const std::unique_ptr<Accelerator> accel = make_accelerator(opt.accel, scene.triangles, scene.instancing, kd_options_from(opt.kd_split), isa);
     const double build_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t_build).count();

@@ -22,7 +22,7 @@ using namespace path_rules;
 
 PathIntegrator::PathIntegrator(const Scene& scene, const Accelerator& accel, const AreaLights& area_lights,
                                const Environment* environment, int max_depth, int light_samples,
-                               const CausticMap* caustics)
+                               const CausticMap* caustics, Isa isa)
     : scene_(scene),
       accel_(accel),
       area_lights_(area_lights),
@@ -30,7 +30,8 @@ PathIntegrator::PathIntegrator(const Scene& scene, const Accelerator& accel, con
       max_depth_(max_depth),
       light_samples_(std::max(1, light_samples)),
       has_coverage_(scene_has_coverage(scene)),
-      caustics_(caustics) {}
+      caustics_(caustics),
+      isa_(isa) {}
 
 glm::vec3 PathIntegrator::radiance_from_hit(const Ray& ray, const Hit& hit, SobolSampler& sampler,
                                             std::uint64_t& rays) const {
@@ -73,10 +74,10 @@ void PathIntegrator::radiance_block(const Ray* rays, const Hit* hits, SobolSampl
       r.dim2[0] = dims + kLightPointDimensions;
       r.dim2[1] = dims + kBsdfDimensions;
     }
-    draw_ahead(scratch.draws.data(), static_cast<int>(scratch.draws.size()));
+    draw_ahead(scratch.draws.data(), static_cast<int>(scratch.draws.size()), isa_);
     scratch.geometry.resize(scratch.live.size());
     surface_geometry(scene_, scratch.rays.data(), scratch.hits.data(), static_cast<int>(scratch.live.size()),
-                     scratch.geometry.data());
+                     scratch.geometry.data(), isa_);
     for (std::size_t k = 0; k < scratch.live.size(); ++k) {
       const int index = scratch.live[k];
       if (bounce(scratch.paths[static_cast<std::size_t>(index)], index, scratch.rays[k], scratch.hits[k],
@@ -139,7 +140,7 @@ void PathIntegrator::solve_origins_of_bounce(Scratch& scratch) const {
     r.target = scratch.next_rays[k].dir;
     r.towards = false;
   }
-  solve_origins(scratch.origin_requests.data(), scratch.origins.data(), static_cast<int>(n));
+  solve_origins(scratch.origin_requests.data(), scratch.origins.data(), static_cast<int>(n), isa_);
   for (std::size_t k = 0; k < shadows; ++k)
     scratch.shadows[k].ray =
         shadow_ray(scratch.shadows[k].aim, scratch.origins[k], scratch.leaves[scratch.shadows[k].leaf].time());

@@ -47,10 +47,11 @@ class PathIntegrator {
   // each with its shadow ray, combined with the BSDF sample by MIS (Veach 1997, 9.2.4,
   // with n_light = light_samples and n_bsdf = 1).
   // caustics: the caustic photon map the paths add at their non-delta vertices, or null
-  // (plain path tracing).
+  // (plain path tracing). isa: the vector passes' instruction set (scalar: none; every ISA
+  // gives the same paths).
   PathIntegrator(const Scene& scene, const Accelerator& accel, const AreaLights& area_lights,
                  const Environment* environment, int max_depth, int light_samples = 1,
-                 const CausticMap* caustics = nullptr);
+                 const CausticMap* caustics = nullptr, Isa isa = best_supported_isa());
 
   // Memory radiance_block reuses from call to call (keep one per thread): once it has
   // held the largest wavefront, the bounce loop allocates nothing.
@@ -104,6 +105,7 @@ class PathIntegrator {
   int light_samples_;
   bool has_coverage_;  // some material is MASK or BLEND (render/coverage.h)
   const CausticMap* caustics_;
+  Isa isa_;  // of the vector passes over a bounce's paths (origins, geometry, sample values)
 };
 
 // The state of one path between bounces.

@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "render/pixel_filter.h"
+#include "simd/isa.h"
 
 namespace lancer {
 
@@ -56,6 +57,11 @@ struct RenderSettings {
   // where a block of pixels sees an emitter (render/camera_emission.h); 0: the path's own
   // camera ray alone. Not a command-line option: the tests compare against 0.
   int emitter_samples = 4;
+  // The instruction set of the path tracer's vector passes (the ray origins, the hits'
+  // geometry, the drawn sample values: ray_offset_batch.h, surface_batch.h, sobol_batch.h);
+  // none: the best this CPU runs. Every ISA gives the same image; `lancer render --isa`
+  // sets it with the kd-tree's.
+  std::optional<Isa> vector_isa;
 };
 
 // How the path tracer's rays went in batches (one of each kind per bounce of a block), summed.

@@ -63,7 +63,7 @@ struct SampleRenderer::Impl {
     }
     if (traces_paths)
       path.emplace(scene, accel, *area_lights, s.environment, s.max_depth, s.light_samples,
-                   caustics ? &*caustics : nullptr);
+                   caustics ? &*caustics : nullptr, s.vector_isa.value_or(best_supported_isa()));
     if (s.integrator == IntegratorKind::Whitted) whitted.emplace(scene, accel, *area_lights, s.max_depth, s.light_samples);
     if (traces_paths && s.emitter_samples > 0)
       camera_emission.emplace(scene, accel, camera, filter, s.width, s.height, s.emitter_samples, runner);

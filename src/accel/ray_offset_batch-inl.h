@@ -1,5 +1,5 @@
 // The batch origin solver of ray_offset_batch.h, for one ISA: SurfaceOffset's plane, start
-// and attempts (ray_offset.h) for LANCER_OFFSET_LANES rays per vector, in GCC's vector
+// and attempts (ray_offset.h) for LANCER_BATCH_LANES rays per vector, in GCC's vector
 // extensions, which the TU's flags turn into that ISA's instructions.
 //
 // Every lane performs exactly the scalar solver's float and double operations, in its
@@ -22,45 +22,19 @@
 #include <cstdint>
 
 #include "accel/ray_offset_batch.h"
-
-#ifndef LANCER_OFFSET_LANES
-#error "Define LANCER_OFFSET_LANES (doubles per vector) before including ray_offset_batch-inl.h."
-#endif
+#include "simd/batch_lanes-inl.h"
 
 namespace lancer::LANCER_ISA {
 namespace offset_lanes {
 
-constexpr int N = LANCER_OFFSET_LANES;
-typedef double vd __attribute__((vector_size(8 * N)));
-typedef float vf __attribute__((vector_size(4 * N)));
-typedef std::int64_t vl __attribute__((vector_size(8 * N)));
-typedef std::int32_t vi __attribute__((vector_size(4 * N)));
+using namespace batch_lanes;
 
 using ray_offset_batch::kMaxLanes;
 using ray_offset_detail::kMinHeight;
 
-inline vd load(const double* p) {
-  vd v;
-  __builtin_memcpy(&v, p, sizeof v);
-  return v;
-}
-inline vf load(const float* p) {
-  vf v;
-  __builtin_memcpy(&v, p, sizeof v);
-  return v;
-}
-inline vi load(const std::int32_t* p) {
-  vi v;
-  __builtin_memcpy(&v, p, sizeof v);
-  return v;
-}
-inline void store(float* p, vf v) { __builtin_memcpy(p, &v, sizeof v); }
-
 inline vd broadcast(double x) { return vd{} + x; }
 inline vf broadcast(float x) { return vf{} + x; }
 
-inline vd to_double(vf v) { return __builtin_convertvector(v, vd); }
-inline vf to_float(vd v) { return __builtin_convertvector(v, vf); }
 inline vl wide(vi m) { return __builtin_convertvector(m, vl); }
 
 // std::fabs: the sign bit cleared.
@@ -71,15 +45,7 @@ inline vd glm_abs(vd v) { return v >= 0.0 ? v : -v; }
 // std::max(a, b): a < b ? b : a.
 inline vd max(vd a, vd b) { return a < b ? b : a; }
 inline vf max(vf a, vf b) { return a < b ? b : a; }
-// std::isfinite.
-inline vl finite(vd v) { return (v - v) == 0.0; }
-inline vi finite(vf v) { return (v - v) == 0.0f; }
 
-// The square root of each lane, correctly rounded (as std::sqrt).
-inline vd sqrt(vd v) {
-  for (int i = 0; i < N; ++i) v[i] = __builtin_sqrt(v[i]);
-  return v;
-}
 
 // Component k (per lane, 0 to 2) of (x, y, z).
 inline vf pick(vi k, vf x, vf y, vf z) { return k == 0 ? x : (k == 1 ? y : z); }

@@ -3,7 +3,7 @@
 #if defined(__x86_64__) || defined(_M_X64)
 
 #define LANCER_ISA avx512
-#define LANCER_OFFSET_LANES 8
+#define LANCER_BATCH_LANES 8
 #include "simd/vfloat16_avx512.h"
 #include "accel/ray_offset_batch-inl.h"
 

@@ -1,5 +1,5 @@
 // The batch surface solver of surface_batch.h, for one ISA: make_surface_point's geometry
-// (surface.cpp) for LANCER_SURFACE_LANES hits per vector, in GCC's vector extensions, which
+// (surface.cpp) for LANCER_BATCH_LANES hits per vector, in GCC's vector extensions, which
 // the TU's flags turn into that ISA's instructions.
 //
 // Every lane performs exactly make_surface_point's float and double operations, in its
@@ -18,40 +18,14 @@
 #include <cstdint>
 
 #include "render/surface_batch.h"
-
-#ifndef LANCER_SURFACE_LANES
-#error "Define LANCER_SURFACE_LANES (doubles per vector) before including surface_batch-inl.h."
-#endif
+#include "simd/batch_lanes-inl.h"
 
 namespace lancer::LANCER_ISA {
 namespace surface_lanes {
 
-constexpr int N = LANCER_SURFACE_LANES;
-typedef double vd __attribute__((vector_size(8 * N)));
-typedef float vf __attribute__((vector_size(4 * N)));
-typedef std::int32_t vi __attribute__((vector_size(4 * N)));
+using namespace batch_lanes;
 
 using surface_batch::kMaxLanes;
-
-inline vf load(const float* p) {
-  vf v;
-  __builtin_memcpy(&v, p, sizeof v);
-  return v;
-}
-inline vi load(const std::int32_t* p) {
-  vi v;
-  __builtin_memcpy(&v, p, sizeof v);
-  return v;
-}
-inline void store(float* p, vf v) { __builtin_memcpy(p, &v, sizeof v); }
-inline void store(std::int32_t* p, vi v) { __builtin_memcpy(p, &v, sizeof v); }
-inline vd to_double(vf v) { return __builtin_convertvector(v, vd); }
-inline vf to_float(vd v) { return __builtin_convertvector(v, vf); }
-inline vi finite(vf v) { return (v - v) == 0.0f; }
-inline vf sqrt(vf v) {
-  for (int i = 0; i < N; ++i) v[i] = __builtin_sqrtf(v[i]);
-  return v;
-}
 
 // One vector of lanes at offset `o`, the first `valid` in use.
 inline std::uint64_t solve_vector(const surface_batch::Lanes& L, int o, int valid, surface_batch::Out& out) {

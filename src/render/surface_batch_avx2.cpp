@@ -3,7 +3,7 @@
 #if defined(__x86_64__) || defined(_M_X64)
 
 #define LANCER_ISA avx2
-#define LANCER_SURFACE_LANES 4
+#define LANCER_BATCH_LANES 4
 #include "simd/vfloat8_avx2.h"
 #include "render/surface_batch-inl.h"
 

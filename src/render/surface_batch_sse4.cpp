@@ -3,7 +3,7 @@
 #if defined(__x86_64__) || defined(_M_X64)
 
 #define LANCER_ISA sse4
-#define LANCER_SURFACE_LANES 2
+#define LANCER_BATCH_LANES 2
 #include "simd/vfloat4_sse4.h"
 #include "render/surface_batch-inl.h"
 

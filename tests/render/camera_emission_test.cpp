@@ -65,6 +65,34 @@ TEST(CameraEmission, CoversNothingWithoutAnEmissiveMaterial) {
   EXPECT_EQ(emission.covered_cells(), 0u);
 }
 
+// Renders `scene` four times (seeds 0-3) without the estimate and four times with four rays
+// per sample, against `exact` (the red channel, row by row): each way's summed squared
+// error, mean image sum and camera-emission rays.
+struct AgainstExact {
+  double error[2] = {0.0, 0.0}, mean_sum[2] = {0.0, 0.0};
+  std::uint64_t emission_rays[2] = {0, 0};
+};
+AgainstExact render_against_exact(const Scene& scene, const KdTree& kd, const PinholeCamera& camera,
+                                  RenderSettings s, const std::vector<double>& exact) {
+  AgainstExact r;
+  for (int with = 0; with < 2; ++with) {
+    s.emitter_samples = with ? 4 : 0;
+    for (std::uint64_t seed = 0; seed < 4; ++seed) {
+      s.seed = seed;
+      RenderStats stats;
+      const ImageRGB image = render_image(scene, kd, camera, s, stats);
+      r.emission_rays[with] += stats.path_batches.emission_rays;
+      for (int y = 0; y < s.height; ++y)
+        for (int x = 0; x < s.width; ++x) {
+          const double got = image.at(x, y).x, want = exact[static_cast<std::size_t>(y * s.width + x)];
+          r.error[with] += (got - want) * (got - want);
+          r.mean_sum[with] += got / 4.0;
+        }
+    }
+  }
+  return r;
+}
+
 // An emissive square facing a pinhole camera on its axis, nothing else: each pixel's value
 // is the radiance times the fraction of the pixel the square's image covers, a square of
 // half-side 7.3 pixels about the image centre. Rendered with and without the estimate, the
@@ -95,26 +123,14 @@ TEST_P(EmitterImage, SplitsTheDirectEmissionWithoutBiasAndWithLessNoise) {
   s.threads = 2;
   s.max_depth = 2;
   s.integrator = GetParam();
-  double error[2] = {0.0, 0.0}, mean[2] = {0.0, 0.0}, exact_mean = 0.0;
-  std::uint64_t emission_rays[2] = {0, 0};
-  for (int with = 0; with < 2; ++with) {
-    s.emitter_samples = with ? 4 : 0;
-    for (std::uint64_t seed = 0; seed < 4; ++seed) {
-      s.seed = seed;
-      RenderStats stats;
-      const ImageRGB image = render_image(scene, kd, camera, s, stats);
-      emission_rays[with] += stats.path_batches.emission_rays;
-      for (int y = 0; y < kSize; ++y)
-        for (int x = 0; x < kSize; ++x) {
-          const double exact = radiance.x * covered(x) * covered(y);
-          const double got = image.at(x, y).x;
-          error[with] += (got - exact) * (got - exact);
-          mean[with] += got;
-          if (with == 0 && seed == 0) exact_mean += exact;
-        }
-    }
-    mean[with] /= 4.0;
-  }
+  std::vector<double> exact(kSize * kSize);
+  double exact_mean = 0.0;
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x) exact_mean += exact[y * kSize + x] = radiance.x * covered(x) * covered(y);
+  const AgainstExact r = render_against_exact(scene, kd, camera, s, exact);
+  const double* error = r.error;
+  const double* mean = r.mean_sum;
+  const std::uint64_t* emission_rays = r.emission_rays;
   EXPECT_EQ(emission_rays[0], 0u);
   EXPECT_EQ(emission_rays[1], 4u * 16u * 4u * kSize * kSize);  // every block shows the square
   // The image sums to the square's area in pixels times the radiance, up to the noise of
@@ -282,25 +298,13 @@ TEST(CameraEmission, FollowsAMovingCamera) {
   s.spp = 16;
   s.threads = 2;
   s.max_depth = 1;
-  double error[2] = {0.0, 0.0}, sum[2] = {0.0, 0.0}, exact_sum = 0.0;
+  double exact_sum = 0.0;
   for (const double e : exact) exact_sum += e;
-  for (int with = 0; with < 2; ++with) {
-    s.emitter_samples = with ? 4 : 0;
-    for (std::uint64_t seed = 0; seed < 4; ++seed) {
-      s.seed = seed;
-      RenderStats stats;
-      const ImageRGB image = render_image(scene, kd, camera, s, stats);
-      if (with) {
-        EXPECT_GT(stats.path_batches.emission_rays, 0u);
-      }
-      for (int y = 0; y < kSize; ++y)
-        for (int x = 0; x < kSize; ++x) {
-          const double got = image.at(x, y).x, want = exact[y * kSize + x];
-          error[with] += (got - want) * (got - want);
-          sum[with] += got / 4.0;
-        }
-    }
-  }
+  const AgainstExact r = render_against_exact(scene, kd, camera, s, exact);
+  EXPECT_EQ(r.emission_rays[0], 0u);
+  EXPECT_GT(r.emission_rays[1], 0u);
+  const double* error = r.error;
+  const double* sum = r.mean_sum;
   std::printf("[ info     ] moving camera: sums %.2f and %.2f against %.2f, squared error %.3f and %.3f\n", sum[0],
               sum[1], exact_sum, error[0], error[1]);
   // Four standard deviations of the mean image's sum: each image's sum varies by about the

@@ -213,14 +213,8 @@ inline std::uint64_t solve_vector(const ray_offset_batch::Lanes& L, int o, int v
 // ray_offset_batch::SolveLanesFn for this ISA.
 inline std::uint64_t solve_origin_lanes_impl(const ray_offset_batch::Lanes& lanes, int count,
                                              float out[3][ray_offset_batch::kMaxLanes]) {
-  std::uint64_t done = 0;
-  for (int o = 0; o < count; o += offset_lanes::N) {
-    const int valid = count - o < offset_lanes::N ? count - o : offset_lanes::N;
-    const std::uint64_t bits = offset_lanes::solve_vector(lanes, o, valid, out);
-    const std::uint64_t mask = valid == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << valid) - 1;
-    done |= (bits & mask) << o;
-  }
-  return done;
+  return batch_lanes::solve_lanes(count,
+                                  [&](int o, int valid) { return offset_lanes::solve_vector(lanes, o, valid, out); });
 }
 
 }  // namespace lancer::LANCER_ISA

@@ -1,6 +1,5 @@
 #include "accel/ray_offset_batch.h"
 
-#include <stdexcept>
 
 namespace lancer {
 
@@ -26,16 +25,10 @@ namespace {
 // The solver of one ISA; null for scalar (every ray goes to SurfaceOffset itself).
 SolveLanesFn solver_for(Isa isa) {
 #if defined(__x86_64__) || defined(_M_X64)
-  switch (isa) {
-    case Isa::Sse4: return &sse4::solve_origin_lanes;
-    case Isa::Avx2: return &avx2::solve_origin_lanes;
-    case Isa::Avx512: return &avx512::solve_origin_lanes;
-    case Isa::Scalar: return nullptr;
-  }
-  return nullptr;
+  return isa_version<SolveLanesFn>(isa, "solve_origins", &sse4::solve_origin_lanes, &avx2::solve_origin_lanes,
+                                   &avx512::solve_origin_lanes);
 #else
-  if (isa != Isa::Scalar) throw std::invalid_argument("solve_origins: this build has only the scalar solver");
-  return nullptr;
+  return isa_version<SolveLanesFn>(isa, "solve_origins", nullptr, nullptr, nullptr);
 #endif
 }
 

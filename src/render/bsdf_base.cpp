@@ -42,7 +42,6 @@ ShadingFrame ShadingFrame::from_normal_tangent(const glm::vec3& n, const glm::ve
   return {tangent, glm::cross(n, tangent), n};
 }
 
-
 // ---- BaseBsdf --------------------------------------------------------------------------
 
 namespace {

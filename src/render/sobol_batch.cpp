@@ -1,6 +1,5 @@
 #include "render/sobol_batch.h"
 
-#include <stdexcept>
 
 namespace lancer {
 
@@ -23,16 +22,10 @@ using namespace sobol_batch;
 
 DrawLanesFn drawer_for(Isa isa) {
 #if defined(__x86_64__) || defined(_M_X64)
-  switch (isa) {
-    case Isa::Sse4: return &sse4::draw_sobol_lanes;
-    case Isa::Avx2: return &avx2::draw_sobol_lanes;
-    case Isa::Avx512: return &avx512::draw_sobol_lanes;
-    case Isa::Scalar: return nullptr;
-  }
-  return nullptr;
+  return isa_version<DrawLanesFn>(isa, "draw_ahead", &sse4::draw_sobol_lanes, &avx2::draw_sobol_lanes,
+                                  &avx512::draw_sobol_lanes);
 #else
-  if (isa != Isa::Scalar) throw std::invalid_argument("draw_ahead: this build has only the scalar sampler");
-  return nullptr;
+  return isa_version<DrawLanesFn>(isa, "draw_ahead", nullptr, nullptr, nullptr);
 #endif
 }
 
@@ -47,15 +40,7 @@ void draw_ahead(const AheadRequest* requests, int count) {
 
 void draw_ahead(const AheadRequest* requests, int count, Isa isa) {
   const DrawLanesFn draw = drawer_for(isa);
-  if (!draw) {
-    for (int i = 0; i < count; ++i) {
-      const AheadRequest& r = requests[i];
-      const float v1[2] = {r.sampler->get1(r.dim1[0]), r.sampler->get1(r.dim1[1])};
-      const glm::vec2 v2[2] = {r.sampler->get2(r.dim2[0]), r.sampler->get2(r.dim2[1])};
-      r.sampler->take_ahead(r.dim1, v1, r.dim2, v2);
-    }
-    return;
-  }
+  if (!draw) return;  // scalar: get1 and get2 compute each value when it is asked for
   alignas(64) Lanes lanes;
   alignas(64) Out out;
   for (int k = 0; k < 4; ++k) lanes.table[k] = sobol::reversed_second_dimension_table(k);

@@ -21,7 +21,7 @@ struct AheadRequest {
 };
 
 // For each request, the sampler's get1(dim1[k]) and get2(dim2[k]) drawn and left in it, with
-// the solver of `isa` (scalar: one at a time, by get1 and get2 themselves).
+// the drawer of `isa` (scalar: nothing is drawn ahead; get1 and get2 compute them later).
 void draw_ahead(const AheadRequest* requests, int count, Isa isa);
 // The same with the best ISA this CPU runs, chosen once.
 void draw_ahead(const AheadRequest* requests, int count);

@@ -30,28 +30,16 @@ SurfacePoint make_surface_point(const Scene& scene, const Ray& ray, const Hit& h
   return make_surface_point(scene, ray, hit, drawn.get());
 }
 
-SurfacePoint make_surface_point(const Scene& scene, const Ray& ray, const Hit& hit, const Instance* inst,
-                                const SurfaceGeometry* geometry) {
+namespace {
+
+// The point, the normals facing the ray and the side: what surface_batch-inl.h computes for
+// several hits per vector, with these very operations in this order.
+void surface_geometry_here(const Scene& scene, const Ray& ray, const Hit& hit, const Instance* inst,
+                           SurfacePoint& sp) {
   const std::uint32_t i = hit.prim;
-  if (geometry && geometry->valid) {  // surface_batch-inl.h did the arithmetic below
-    SurfacePoint sp;
-    sp.prim = i;
-    sp.instance = hit.instance;
-    sp.p = geometry->p;
-    sp.ng = geometry->ng;
-    sp.ns = geometry->ns;
-    sp.front_face = geometry->front_face;
-    sp.material = &scene.materials[scene.material_id[i]];
-    sp.base_color = base_color_at(scene, *sp.material, i, hit.u, hit.v);
-    return sp;
-  }
   const TriangleCorners corners = drawn_corners(scene, i, inst);
   const glm::vec3 a = corners[0], b = corners[1], c = corners[2];
   const float w = 1.0f - hit.u - hit.v;
-
-  SurfacePoint sp;
-  sp.prim = i;
-  sp.instance = hit.instance;
   // In double: any barycentric combination lies on the triangle's plane, so only the
   // arithmetic can push p off it. In float that error scales with the vertices (a 2 km
   // floor puts p 1e-4 off the plane, beyond what offset_ray_origin allows for a point
@@ -84,7 +72,24 @@ SurfacePoint make_surface_point(const Scene& scene, const Ray& ray, const Hit& h
   }
   sp.ng = ng;
   sp.ns = ns;
+}
 
+}  // namespace
+
+SurfacePoint make_surface_point(const Scene& scene, const Ray& ray, const Hit& hit, const Instance* inst,
+                                const SurfaceGeometry* geometry) {
+  const std::uint32_t i = hit.prim;
+  SurfacePoint sp;
+  sp.prim = i;
+  sp.instance = hit.instance;
+  if (geometry && geometry->valid) {
+    sp.p = geometry->p;
+    sp.ng = geometry->ng;
+    sp.ns = geometry->ns;
+    sp.front_face = geometry->front_face;
+  } else {
+    surface_geometry_here(scene, ray, hit, inst, sp);
+  }
   sp.material = &scene.materials[scene.material_id[i]];
   sp.base_color = base_color_at(scene, *sp.material, i, hit.u, hit.v);
   return sp;

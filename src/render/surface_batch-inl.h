@@ -85,14 +85,8 @@ inline std::uint64_t solve_vector(const surface_batch::Lanes& L, int o, int vali
 
 // surface_batch::SolveLanesFn for this ISA.
 inline std::uint64_t solve_surface_lanes_impl(const surface_batch::Lanes& lanes, int count, surface_batch::Out& out) {
-  std::uint64_t done = 0;
-  for (int o = 0; o < count; o += surface_lanes::N) {
-    const int valid = count - o < surface_lanes::N ? count - o : surface_lanes::N;
-    const std::uint64_t bits = surface_lanes::solve_vector(lanes, o, valid, out);
-    const std::uint64_t mask = valid == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << valid) - 1;
-    done |= (bits & mask) << o;
-  }
-  return done;
+  return batch_lanes::solve_lanes(count,
+                                  [&](int o, int valid) { return surface_lanes::solve_vector(lanes, o, valid, out); });
 }
 
 }  // namespace lancer::LANCER_ISA

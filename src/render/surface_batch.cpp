@@ -1,6 +1,5 @@
 #include "render/surface_batch.h"
 
-#include <stdexcept>
 
 namespace lancer {
 
@@ -23,16 +22,10 @@ using namespace surface_batch;
 
 SolveLanesFn solver_for(Isa isa) {
 #if defined(__x86_64__) || defined(_M_X64)
-  switch (isa) {
-    case Isa::Sse4: return &sse4::solve_surface_lanes;
-    case Isa::Avx2: return &avx2::solve_surface_lanes;
-    case Isa::Avx512: return &avx512::solve_surface_lanes;
-    case Isa::Scalar: return nullptr;
-  }
-  return nullptr;
+  return isa_version<SolveLanesFn>(isa, "surface_geometry", &sse4::solve_surface_lanes, &avx2::solve_surface_lanes,
+                                   &avx512::solve_surface_lanes);
 #else
-  if (isa != Isa::Scalar) throw std::invalid_argument("surface_geometry: this build has only make_surface_point");
-  return nullptr;
+  return isa_version<SolveLanesFn>(isa, "surface_geometry", nullptr, nullptr, nullptr);
 #endif
 }
 

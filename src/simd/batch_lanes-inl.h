@@ -58,4 +58,19 @@ inline vf sqrt(vf v) {
   return v;
 }
 
+// A solver's lanes [0, count), a vector at a time: solve_vector(o, valid) solves the vector
+// at offset o, whose first `valid` lanes are in use, and returns bit i for its lane i when it
+// computed it. Bit l of the result is lane l's.
+template <class SolveVector>
+inline std::uint64_t solve_lanes(int count, SolveVector solve_vector) {
+  std::uint64_t done = 0;
+  for (int o = 0; o < count; o += N) {
+    const int valid = count - o < N ? count - o : N;
+    const std::uint64_t bits = solve_vector(o, valid);
+    const std::uint64_t mask = valid == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << valid) - 1;
+    done |= (bits & mask) << o;
+  }
+  return done;
+}
+
 }  // namespace lancer::LANCER_ISA::batch_lanes

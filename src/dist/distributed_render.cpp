@@ -102,6 +102,7 @@ ImageRGB render_distributed(Channel& channel, const SampleRenderer& renderer, co
                                     std::chrono::duration<double>(timed ? control.time_limit_s : 0.0));
   if (state.empty()) state.reset(settings.width, settings.height);
   check_render_state(state, settings);
+  check_light_state(state, renderer.light_paths_per_pass());
   const std::vector<Tile> tiles = distributed_tiles(settings, channel.size());
   TileQueue queue(tiles, state, settings.spp);
   LocalWorker local(renderer, tiles, runner, me.threads);
@@ -195,10 +196,18 @@ ImageRGB render_distributed(Channel& channel, const SampleRenderer& renderer, co
 
   auto last_checkpoint = start;
   auto interrupted = [&] { return control.stop && control.stop->load(std::memory_order_relaxed) != 0; };
+  // The light tracer's passes (render/light_tracer.h) are rank 0's, one per turn of the
+  // loop while the workers sample; their sums do not depend on who traced them.
+  std::uint64_t light_rays = 0;
+  auto trace_light_pass = [&] {
+    if (state.pending.empty()) light_rays += trace_pending_light(renderer, state);
+    state.commit_pending();
+  };
   while (!queue.complete()) {
     if (interrupted() || (timed && Clock::now() >= deadline) || !failure.empty()) break;
     const bool any = poll();
     for (int rank = 0; rank < ranks; ++rank) hand_out(rank);
+    if (renderer.traces_light() && state.light_passes < settings.spp) trace_light_pass();
     if (control.checkpoint_s > 0.0 && control.on_checkpoint && !queue.complete() &&
         std::chrono::duration<double>(Clock::now() - last_checkpoint).count() >= control.checkpoint_s) {
       queue.settle_passes();
@@ -243,6 +252,8 @@ ImageRGB render_distributed(Channel& channel, const SampleRenderer& renderer, co
   if (!failure.empty()) report.warnings.push_back(failure);
 
   queue.settle_passes();
+  if (!stats.stopped)
+    while (renderer.traces_light() && state.light_passes < settings.spp) trace_light_pass();
   stats.passes = state.passes;
   const auto [lo, hi] = std::minmax_element(state.count.begin(), state.count.end());
   stats.min_spp = *lo;
@@ -250,7 +261,8 @@ ImageRGB render_distributed(Channel& channel, const SampleRenderer& renderer, co
   const std::uint32_t least = *lo;
   stats.pixels_past_min_spp = static_cast<std::size_t>(
       std::count_if(state.count.begin(), state.count.end(), [least](std::uint32_t c) { return c > least; }));
-  stats.rays = rays;
+  stats.rays = rays + light_rays;
+  stats.light_rays = light_rays;
   stats.primary_rays = primary_rays;
   stats.setup_rays = renderer.setup_rays();
   stats.primary_seconds = primary_seconds;

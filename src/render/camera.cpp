@@ -1,5 +1,6 @@
 #include "render/camera.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -113,6 +114,47 @@ Ray PinholeCamera::generate(float i, float j, glm::vec2 lens_u) const {
   r.tnear = 0.0f;
   r.tfar = kInfinity;
   return r;
+}
+
+CameraPoint PinholeCamera::connect(const glm::vec3& p, glm::vec2 lens_u) const {
+  CameraPoint c;
+  if (orthographic_) return c;
+  c.lens = origin_;
+  if (aperture_radius_ > 0.0f) {
+    const glm::vec2 lens = aperture_radius_ * concentric_disk(lens_u);
+    c.lens = origin_ + lens.x * glm::normalize(x_axis_) + lens.y * glm::normalize(y_axis_);
+  }
+  const glm::vec3 w = p - c.lens;
+  const float along = glm::dot(w, forward_);
+  if (!(along > 0.0f)) return c;
+  // The pinhole direction d (d.f = 1) of the pixel position: through the point where the
+  // ray from the lens point meets the focus plane (the lens lies in the plane through the
+  // origin perpendicular to f), or parallel to the ray for a focus at infinity.
+  const glm::vec3 d = aperture_radius_ > 0.0f && !std::isinf(focus_distance_)
+                          ? (c.lens - origin_ + w * (focus_distance_ / along)) / focus_distance_
+                          : w / along;
+  const float len_x = glm::dot(x_axis_, x_axis_), len_y = glm::dot(y_axis_, y_axis_);
+  const float i = (0.5f * glm::dot(d, x_axis_) / len_x + 0.5f) * static_cast<float>(width_);
+  const float j = (0.5f * glm::dot(d, y_axis_) / len_y + 0.5f) * static_cast<float>(height_);
+  if (!(i >= 0.0f && i < static_cast<float>(width_) && j >= 0.0f && j < static_cast<float>(height_))) return c;
+  c.x = std::min(static_cast<int>(i), width_ - 1);
+  c.y = std::min(static_cast<int>(j), height_ - 1);
+  c.importance = importance(c.lens, p);
+  c.valid = std::isfinite(c.importance) && c.importance > 0.0f;
+  return c;
+}
+
+float PinholeCamera::importance(const glm::vec3& lens, const glm::vec3& p) const {
+  const glm::vec3 w = p - lens;
+  const float along = glm::dot(w, forward_);
+  if (!(along > 0.0f)) return 0.0f;
+  // The image plane at distance 1 is 2|x| by 2|y|; a direction at angle theta from f
+  // covers dA cos^3 theta of solid angle per unit area dA there.
+  const float pixel_area = 4.0f * glm::length(x_axis_) * glm::length(y_axis_) /
+                           (static_cast<float>(width_) * static_cast<float>(height_));
+  const float r2 = glm::dot(w, w);
+  const float cos_theta = along / std::sqrt(r2);
+  return 1.0f / (pixel_area * r2 * cos_theta * cos_theta * cos_theta);
 }
 
 glm::vec2 concentric_disk(glm::vec2 u) {

@@ -26,6 +26,17 @@
 
 namespace lancer {
 
+// Where light leaving a point reaches the image (light tracing, render/light_tracer.h).
+struct CameraPoint {
+  bool valid = false;       // false: the point is behind the camera or outside the image
+  glm::vec3 lens{0.0f};     // the point on the lens the light goes to (the origin for a pinhole)
+  int x = 0, y = 0;         // the pixel it lands in
+  // 1 / (A r^2 cos^3 theta): A the pixel's area on the image plane at distance 1, r the
+  // distance from the lens point, theta the angle of the way to it from the optical axis.
+  // Times the cosine at a surface point, the change of measure from its area to the pixel's.
+  float importance = 0.0f;
+};
+
 class PinholeCamera {
  public:
   // vfov in radians, the full vertical field of view. Throws std::invalid_argument when
@@ -47,6 +58,16 @@ class PinholeCamera {
   // The same through the thin lens at lens_u in [0, 1)^2; identical to generate(i, j)
   // (bit for bit) when the aperture radius is 0.
   Ray generate(float i, float j, glm::vec2 lens_u) const;
+
+  // The adjoint of generate(i, j, lens_u): the pixel whose rays through the lens point of
+  // lens_u reach p, and the camera's importance there (Veach 1997, sec. 10.2.1; PBR 4th ed.,
+  // 5.4). With a thin lens the ray leaves the lens point towards p's image on the focus
+  // plane, as generate() makes it. Not for an orthographic camera (its rays are one
+  // direction: no point connects to it).
+  CameraPoint connect(const glm::vec3& p, glm::vec2 lens_u) const;
+  // CameraPoint::importance of p seen from the lens point `lens`, whether or not p is in the
+  // image (0 behind the lens plane).
+  float importance(const glm::vec3& lens, const glm::vec3& p) const;
 
   // aperture_radius in scene units (0: pinhole); focus_distance along the optical axis,
   // in scene units, > 0, may be +infinity. Throws std::invalid_argument otherwise, and for

@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <cstring>
+#include <limits>
 #include <stdexcept>
 #include <string_view>
 
@@ -16,10 +17,32 @@ namespace {
 constexpr std::string_view kPrefix = "lancer.";
 constexpr std::array<const char*, 3> kRgb = {"R", "G", "B"};
 // The names that are not facts: the format, the passes, the digest.
-constexpr std::array<std::string_view, 3> kReserved = {"resume", "passes", "digest"};
+constexpr std::array<std::string_view, 6> kReserved = {"resume",     "passes",     "digest",
+                                                       "lightPasses", "lightPaths", "lightPending"};
 
 std::string hi_name(int c) { return std::string(kPrefix) + "sumHi." + kRgb[static_cast<std::size_t>(c)]; }
 std::string lo_name(int c) { return std::string(kPrefix) + "sumLo." + kRgb[static_cast<std::size_t>(c)]; }
+std::string light_hi_name(int c) { return std::string(kPrefix) + "lightHi." + kRgb[static_cast<std::size_t>(c)]; }
+std::string light_lo_name(int c) { return std::string(kPrefix) + "lightLo." + kRgb[static_cast<std::size_t>(c)]; }
+std::string pending_hi_name(int c) { return std::string(kPrefix) + "pendingHi." + kRgb[static_cast<std::size_t>(c)]; }
+std::string pending_lo_name(int c) { return std::string(kPrefix) + "pendingLo." + kRgb[static_cast<std::size_t>(c)]; }
+
+// Each double of `sums`' channel c as its high and low 32 bits, exact.
+void add_double_channels(const std::vector<glm::dvec3>& sums, const std::string& hi_channel,
+                         const std::string& lo_channel, int c, ExrExtras& extras) {
+  std::vector<std::uint32_t> hi(sums.size()), lo(sums.size());
+  for (std::size_t p = 0; p < sums.size(); ++p) {
+    std::uint64_t bits;
+    std::memcpy(&bits, &sums[p][c], sizeof bits);
+    hi[p] = static_cast<std::uint32_t>(bits >> 32);
+    lo[p] = static_cast<std::uint32_t>(bits);
+  }
+  extras.uint_channels.emplace_back(hi_channel, std::move(hi));
+  extras.uint_channels.emplace_back(lo_channel, std::move(lo));
+}
+
+// Whether the state holds the light tracer's sums (the file then has their channels).
+bool has_light(const RenderState& state) { return state.light_passes > 0 || !state.pending.empty(); }
 std::string count_name() { return std::string(kPrefix) + "count"; }
 
 CheckpointFacts sorted(CheckpointFacts facts) {
@@ -40,6 +63,13 @@ std::string digest(const RenderState& state, const CheckpointFacts& sorted_facts
   }
   h.add(state.count.data(), state.count.size() * sizeof(std::uint32_t));
   h.add(state.sum.data(), state.sum.size() * sizeof(glm::dvec3));
+  if (has_light(state)) {
+    h.add_u64(static_cast<std::uint64_t>(state.light_passes));
+    h.add_u64(state.light_paths);
+    h.add(state.light.data(), state.light.size() * sizeof(glm::dvec3));
+    h.add_u64(state.pending.size());
+    h.add(state.pending.data(), state.pending.size() * sizeof(glm::dvec3));
+  }
   return h.hex();
 }
 
@@ -48,20 +78,24 @@ std::string digest(const RenderState& state, const CheckpointFacts& sorted_facts
 void write_checkpoint(const RenderState& state, const CheckpointFacts& facts, const std::filesystem::path& file) {
   if (state.empty()) throw std::invalid_argument("write_checkpoint: empty render state");
   const CheckpointFacts in_order = sorted(facts);
+  if (has_light(state) &&
+      ((state.light_passes > 0 && state.light.size() != state.pixels()) ||
+       (!state.pending.empty() && state.pending.size() != state.pixels()) || state.light_paths == 0 ||
+       state.light_paths > static_cast<std::uint64_t>(std::numeric_limits<int>::max())))
+    throw std::invalid_argument("write_checkpoint: light sums that are not one per pixel, or paths out of range");
   ExrExtras extras;
-  for (int c = 0; c < 3; ++c) {
-    std::vector<std::uint32_t> hi(state.pixels()), lo(state.pixels());
-    for (std::size_t p = 0; p < state.pixels(); ++p) {
-      std::uint64_t bits;
-      std::memcpy(&bits, &state.sum[p][c], sizeof bits);
-      hi[p] = static_cast<std::uint32_t>(bits >> 32);
-      lo[p] = static_cast<std::uint32_t>(bits);
-    }
-    extras.uint_channels.emplace_back(hi_name(c), std::move(hi));
-    extras.uint_channels.emplace_back(lo_name(c), std::move(lo));
-  }
+  for (int c = 0; c < 3; ++c) add_double_channels(state.sum, hi_name(c), lo_name(c), c, extras);
   extras.uint_channels.emplace_back(count_name(), state.count);
   extras.ints = {{std::string(kPrefix) + "resume", kCheckpointFormat}, {std::string(kPrefix) + "passes", state.passes}};
+  if (has_light(state)) {
+    if (state.light_passes > 0)
+      for (int c = 0; c < 3; ++c) add_double_channels(state.light, light_hi_name(c), light_lo_name(c), c, extras);
+    if (!state.pending.empty())
+      for (int c = 0; c < 3; ++c) add_double_channels(state.pending, pending_hi_name(c), pending_lo_name(c), c, extras);
+    extras.ints.emplace_back(std::string(kPrefix) + "lightPasses", state.light_passes);
+    extras.ints.emplace_back(std::string(kPrefix) + "lightPaths", static_cast<int>(state.light_paths));
+    extras.ints.emplace_back(std::string(kPrefix) + "lightPending", state.pending.empty() ? 0 : 1);
+  }
   for (const auto& [key, value] : in_order) {
     if (key.empty() || std::find(kReserved.begin(), kReserved.end(), key) != kReserved.end())
       throw std::invalid_argument("write_checkpoint: '" + key + "' cannot be a fact's key");
@@ -97,15 +131,33 @@ Checkpoint read_checkpoint(const std::filesystem::path& file) {
       if (n == name) return values;
     throw damaged("no " + name + " channel");
   };
-  st.count = channel(count_name());
-  st.sum.assign(st.pixels(), glm::dvec3(0.0));
-  for (int c = 0; c < 3; ++c) {
-    const std::vector<std::uint32_t>& hi = channel(hi_name(c));
-    const std::vector<std::uint32_t>& lo = channel(lo_name(c));
-    for (std::size_t p = 0; p < st.pixels(); ++p) {
-      const std::uint64_t bits = std::uint64_t{hi[p]} << 32 | lo[p];
-      std::memcpy(&st.sum[p][c], &bits, sizeof bits);
+  auto read_doubles = [&](std::vector<glm::dvec3>& sums, auto hi_of, auto lo_of) {
+    sums.assign(st.pixels(), glm::dvec3(0.0));
+    for (int c = 0; c < 3; ++c) {
+      const std::vector<std::uint32_t>& hi = channel(hi_of(c));
+      const std::vector<std::uint32_t>& lo = channel(lo_of(c));
+      if (hi.size() != st.pixels() || lo.size() != st.pixels()) throw damaged("a channel is not one value per pixel");
+      for (std::size_t p = 0; p < st.pixels(); ++p) {
+        const std::uint64_t bits = std::uint64_t{hi[p]} << 32 | lo[p];
+        std::memcpy(&sums[p][c], &bits, sizeof bits);
+      }
     }
+  };
+  st.count = channel(count_name());
+  read_doubles(st.sum, hi_name, lo_name);
+  const int* light_passes = int_of("lightPasses");
+  const int* light_paths = int_of("lightPaths");
+  const int* light_pending = int_of("lightPending");
+  if ((light_passes == nullptr) != (light_paths == nullptr) || (light_passes == nullptr) != (light_pending == nullptr))
+    throw damaged("some but not all of lightPasses, lightPaths and lightPending");
+  if (light_passes != nullptr) {
+    if (*light_passes < 0 || *light_paths <= 0 || (*light_pending != 0 && *light_pending != 1) ||
+        (*light_passes == 0 && *light_pending == 0))
+      throw damaged("light passes, paths or pending out of range");
+    st.light_passes = *light_passes;
+    st.light_paths = static_cast<std::uint64_t>(*light_paths);
+    if (st.light_passes > 0) read_doubles(st.light, light_hi_name, light_lo_name);
+    if (*light_pending == 1) read_doubles(st.pending, pending_hi_name, pending_lo_name);
   }
   std::string stored_digest;
   for (const auto& [name, value] : extras.strings) {

@@ -50,9 +50,10 @@ ImageRGB read_image(const std::filesystem::path& file);
 // What an EXR file may carry beside its picture (the render state of `lancer render --resume`):
 // 32-bit unsigned channels of width * height values each, row-major, and string and int
 // header attributes. Other programs show the RGB picture and keep or ignore the rest.
-// The most extra UINT channels read_exr reads under one prefix (a checkpoint has 7): each
-// costs a full image of memory, so a hostile file may not ask for hundreds.
-inline constexpr std::size_t kMaxExrExtraChannels = 16;
+// The most extra UINT channels read_exr reads under one prefix (a checkpoint has up to 19:
+// sums 6, counts 1, light sums 6, a pending light pass 6): each costs a full image of
+// memory, so a hostile file may not ask for hundreds.
+inline constexpr std::size_t kMaxExrExtraChannels = 19;
 
 struct ExrExtras {
   std::vector<std::pair<std::string, std::vector<std::uint32_t>>> uint_channels;

@@ -76,8 +76,9 @@ double environment_luminance_integral(const Environment& environment) {
   return sum;
 }
 
-LightEmission::LightEmission(const Scene& scene, const AreaLights& area_lights, const Environment* environment)
-    : scene_(scene), area_lights_(area_lights), environment_(environment) {
+LightEmission::LightEmission(const Scene& scene, const AreaLights& area_lights, const Environment* environment,
+                             Emitters emitters)
+    : scene_(scene), area_lights_(area_lights), environment_(emitters == Emitters::All ? environment : nullptr) {
   const Bounds3 bounds = scene.bounds();
   if (!bounds.empty()) {
     // The bounding sphere, a little enlarged so the disc distant light enters through lies
@@ -102,7 +103,8 @@ LightEmission::LightEmission(const Scene& scene, const AreaLights& area_lights, 
   for (std::size_t i = 0; i < area_lights.size(); ++i) area_power += area_lights.light(i).power;
   add({Kind::Area, 0, kPi * area_power, glm::vec3(0.0f), 0.0f});
 
-  for (std::size_t i = 0; i < scene.lights.size(); ++i) {
+  const std::size_t punctual = emitters == Emitters::All ? scene.lights.size() : 0;
+  for (std::size_t i = 0; i < punctual; ++i) {
     const PunctualLight& light = scene.lights[i];
     const double intensity = luminance(light.color * light.intensity);
     Emitter e;
@@ -127,8 +129,8 @@ LightEmission::LightEmission(const Scene& scene, const AreaLights& area_lights, 
     add(e);
   }
 
-  if (environment != nullptr)
-    add({Kind::Environment, 0, disc_area * environment_luminance_integral(*environment), glm::vec3(0.0f), 0.0f});
+  if (environment_ != nullptr)
+    add({Kind::Environment, 0, disc_area * environment_luminance_integral(*environment_), glm::vec3(0.0f), 0.0f});
 }
 
 EmittedPhoton LightEmission::sample(float u_pick, glm::vec2 u_pos, glm::vec2 u_dir) const {
@@ -185,6 +187,7 @@ EmittedPhoton LightEmission::sample_area(float u_pick, glm::vec2 u_pos, glm::vec
   photon.ray.dir = dir;
   photon.ray.org = leaving_offset(scene_, s.point, n, s.prim, s.instance, 0.0f).origin(dir);
   set_power(photon, area_light_radiance(scene_, s, dir), kPi / (p_pick * double(s.pdf_area) * p_side));
+  photon.start_density = p_pick * double(s.pdf_area) * p_side / kPi;
   return photon;
 }
 

@@ -45,15 +45,24 @@ struct EmittedPhoton {
   // A punctual light's KHR_lights_punctual range (0: none): the photon tracer multiplies
   // `power` by range_window(distance to the first hit, range) (render/lights.h).
   float range = 0.0f;
+  // From an emissive triangle: the density of its start in the throughput measure, p_pick
+  // p_position p_direction / |cos| (light tracing's MIS weight, render/light_tracer.h); 0
+  // from other lights.
+  double start_density = 0.0;
   bool valid = false;  // false: the sample carries nothing (skip it; it still counts as one photon shot)
 };
 
 class LightEmission {
  public:
+  // Which lights emit: all of them, or the emissive triangles alone (light tracing for the
+  // path tracer, render/light_tracer.h, takes only light a path could also hit).
+  enum class Emitters { All, TrianglesOnly };
+
   // Keeps references: scene, area_lights and environment (null: none) must outlive it.
   // A light that emits nothing (zero intensity, a spot cone without solid angle, a
   // directional light or environment in a scene without triangles) is never picked.
-  LightEmission(const Scene& scene, const AreaLights& area_lights, const Environment* environment);
+  LightEmission(const Scene& scene, const AreaLights& area_lights, const Environment* environment,
+                Emitters emitters = Emitters::All);
 
   bool empty() const { return emitters_.empty(); }
   // Number of emitters that can be picked, in this order: the emissive triangles (all of

@@ -11,6 +11,7 @@
 #include "render/coverage.h"
 #include "render/drawn_triangle.h"
 #include "render/light_sampling.h"
+#include "render/light_tracer.h"
 #include "render/path_rules.h"
 #include "render/shading_inputs.h"
 #include "render/shadow_ray.h"
@@ -22,7 +23,7 @@ using namespace path_rules;
 
 PathIntegrator::PathIntegrator(const Scene& scene, const Accelerator& accel, const AreaLights& area_lights,
                                const Environment* environment, int max_depth, int light_samples,
-                               const CausticMap* caustics, Isa isa)
+                               const CausticMap* caustics, Isa isa, const LightTracer* light_tracer)
     : scene_(scene),
       accel_(accel),
       area_lights_(area_lights),
@@ -31,7 +32,8 @@ PathIntegrator::PathIntegrator(const Scene& scene, const Accelerator& accel, con
       light_samples_(std::max(1, light_samples)),
       has_coverage_(scene_has_coverage(scene)),
       caustics_(caustics),
-      isa_(isa) {}
+      isa_(isa),
+      light_tracer_(light_tracer) {}
 
 glm::vec3 PathIntegrator::radiance_from_hit(const Ray& ray, const Hit& hit, SobolSampler& sampler,
                                             std::uint64_t& rays) const {
@@ -51,6 +53,7 @@ void PathIntegrator::radiance_block(const Ray* rays, const Hit* hits, SobolSampl
   for (int i = 0; i < count; ++i) {
     scratch.paths[static_cast<std::size_t>(i)].sampler = &samplers[i];
     scratch.paths[static_cast<std::size_t>(i)].emission_apart = emission_apart && emission_apart[i];
+    scratch.paths[static_cast<std::size_t>(i)].lens = rays[i].org;
     scratch.live.push_back(i);
     scratch.rays.push_back(rays[i]);
     scratch.hits.push_back(hits[i]);
@@ -275,6 +278,10 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
   const bool seen_apart = emission_apart && si.alpha >= 1.0f;
   if (emits_toward(*si.material, si.front_face) && !is_black(si.emission) && !caustic && !seen_apart) {
     float w = 1.0f;
+    // Reached through delta bounces from a first, non-delta scattering: shared with the
+    // light tracer's paths.
+    if (light_tracer_ && path.prev_delta && path.first_only)
+      w = LightTracer::weight(path.first_density, light_tracer_->light_density(hit.prim, hit.instance));
     if (!path.prev_delta) {
       const float pdf_area = area_lights_.pdf_area(hit.prim, hit.instance);
       const float cos_l = std::abs(glm::dot(si.ng, dir));
@@ -325,6 +332,9 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
   path.prev_pdf = bs->pdf;
   path.prev_delta = bs->delta;
   path.scattered |= !bs->delta;
+  path.first_only = path.bounces == 0 ? !bs->delta : path.first_only && bs->delta;
+  if (light_tracer_ && path.bounces == 0 && !bs->delta)
+    path.first_density = light_tracer_->camera_density(path.lens, si.p, si.ng, wi, bs->pdf);
   // Through a volume boundary the path enters (front face) or leaves the medium; through a
   // thin wall it stays where it was.
   if (bs->transmitted && !si.thin_walled) path.in_volume = si.front_face && volume_absorption(si, path.sigma_a);

@@ -17,6 +17,10 @@
 // map's estimate, and a path that has scattered off a non-delta lobe and since then only off
 // delta lobes counts no emission it reaches (emissive triangles, the environment): that light
 // is the map's. Emission seen from the camera through delta bounces only still counts.
+// With a light tracer (render/light_tracer.h), a path whose first scattering was by a
+// non-delta lobe and every one since by a delta lobe counts an emissive triangle it reaches
+// with the MIS weight the light tracer's paths complement; the environment and other
+// emission count in full.
 #pragma once
 
 #include <cstdint>
@@ -39,6 +43,8 @@
 
 namespace lancer {
 
+class LightTracer;
+
 class PathIntegrator {
  public:
   // Keeps references: all must outlive the integrator. `environment` may be null (black).
@@ -48,10 +54,12 @@ class PathIntegrator {
   // with n_light = light_samples and n_bsdf = 1).
   // caustics: the caustic photon map the paths add at their non-delta vertices, or null
   // (plain path tracing). isa: the vector passes' instruction set (scalar: none; every ISA
-  // gives the same paths).
+  // gives the same paths). light_tracer: the light paths that share the caustics seen
+  // directly with these paths, or null (must outlive the integrator).
   PathIntegrator(const Scene& scene, const Accelerator& accel, const AreaLights& area_lights,
                  const Environment* environment, int max_depth, int light_samples = 1,
-                 const CausticMap* caustics = nullptr, Isa isa = best_supported_isa());
+                 const CausticMap* caustics = nullptr, Isa isa = best_supported_isa(),
+                 const LightTracer* light_tracer = nullptr);
 
   // Memory radiance_block reuses from call to call (keep one per thread): once it has
   // held the largest wavefront, the bounce loop allocates nothing.
@@ -105,7 +113,8 @@ class PathIntegrator {
   int light_samples_;
   bool has_coverage_;  // some material is MASK or BLEND (render/coverage.h)
   const CausticMap* caustics_;
-  Isa isa_;  // of the vector passes over a bounce's paths (origins, geometry, sample values)
+  Isa isa_;
+  const LightTracer* light_tracer_;  // of the vector passes over a bounce's paths (origins, geometry, sample values)
 };
 
 // The state of one path between bounces.
@@ -117,6 +126,9 @@ struct PathIntegrator::Path {
   float prev_pdf = 0.0f;   // solid-angle pdf of the BSDF sample that made the ray
   bool prev_delta = true;  // the camera ray, or a delta lobe: no light sampling competes
   bool scattered = false;  // some BSDF sample so far was of a non-delta lobe
+  bool first_only = false;  // the first BSDF sample was of a non-delta lobe, every later one delta
+  double first_density = 0.0;  // with first_only: LightTracer::camera_density of the path
+  glm::vec3 lens{0.0f};        // where its camera ray started
   bool in_volume = false;
   glm::vec3 sigma_a{0.0f};
   bool emission_apart = false;  // until the first surface: radiance_block's emission_apart

@@ -44,6 +44,9 @@ struct PhotonVertex {
   glm::vec3 wo;                 // unit, back towards where the photon came from
   glm::vec3 power;              // the flux it carries on arrival
   int bounces;                  // scattering events before this surface
+  const Ray& ray;               // the photon's ray, and its hit on this surface
+  const Hit& hit;
+  double start_density;         // EmittedPhoton::start_density of its light
 };
 
 // What visit() lets the photon do next.
@@ -62,13 +65,20 @@ constexpr std::uint32_t kRouletteDimension = 3;  // also the coverage choice, re
 constexpr std::uint32_t kBounceDimensions = 4;
 }  // namespace photon_walk
 
+// Ends no photon early (walk_photon's default `ends`).
+struct EndsNoPhoton {
+  bool operator()(const Hit&, int) const { return false; }
+};
+
 // Walks photon `index` of stream (stream_y, seed), its power multiplied by power_scale.
 // visit(const PhotonVertex&) -> PhotonGoes is called at every surface the photon scatters
 // at (unlit surfaces absorb it first); `rays` counts the rays traced. `emission` must not
-// be empty.
-template <class Visit>
+// be empty. ends(hit, bounces) -> bool, asked at every hit before the surface is shaded,
+// may end the photon there: for a caller that knows the surface will not matter to it.
+template <class Visit, class Ends = EndsNoPhoton>
 void walk_photon(const Scene& scene, const Accelerator& accel, const LightEmission& emission, std::uint64_t index,
-                 std::uint32_t stream_y, std::uint64_t seed, float power_scale, std::uint64_t& rays, Visit&& visit) {
+                 std::uint32_t stream_y, std::uint64_t seed, float power_scale, std::uint64_t& rays, Visit&& visit,
+                 Ends ends = {}) {
   using namespace photon_walk;
   using path_rules::is_black, path_rules::is_finite, path_rules::max_component;
   SobolSampler sampler(static_cast<std::uint32_t>(index >> 32), stream_y, static_cast<std::uint32_t>(index), seed);
@@ -87,7 +97,7 @@ void walk_photon(const Scene& scene, const Accelerator& accel, const LightEmissi
   for (;;) {
     ++rays;
     const Hit hit = accel.intersect(ray);
-    if (!hit.valid()) return;
+    if (!hit.valid() || ends(hit, bounces)) return;
     const float dir_length = glm::length(ray.dir);
     const glm::vec3 dir = ray.dir / dir_length;
     const float segment = hit.t * dir_length;
@@ -109,7 +119,7 @@ void walk_photon(const Scene& scene, const Accelerator& accel, const LightEmissi
     if (si.unlit) return;  // shows its colour, scatters nothing
     const glm::vec3 wo = -dir;
     const SurfaceScattering sc(si, wo);
-    const PhotonGoes goes = visit(PhotonVertex{si, sc, wo, beta, bounces});
+    const PhotonGoes goes = visit(PhotonVertex{si, sc, wo, beta, bounces, ray, hit, emitted.start_density});
     if (goes == PhotonGoes::Stop) return;
     const float u_split = sc.bsdf.reads_split() ? sampler.get1(dims + kSplitDimension) : 0.0f;
     const std::optional<BsdfSample> bs = sc.sample(u_split, sampler.get2(dims + kBsdfDimensions));

@@ -57,6 +57,10 @@ struct RenderSettings {
   // where a block of pixels sees an emitter (render/camera_emission.h); 0: the path's own
   // camera ray alone. Not a command-line option: the tests compare against 0.
   int emitter_samples = 4;
+  // path: caustics seen directly (camera - non-delta surface - delta bounces - emissive
+  // triangle) traced from the lights, where LightTracer::applies (render/light_tracer.h);
+  // false: the path tracer finds them alone. Not a command-line option: the tests compare.
+  bool light_traced_caustics = true;
   // The instruction set of the path tracer's vector passes (the ray origins, the hits'
   // geometry, the drawn sample values: ray_offset_batch.h, surface_batch.h, sobol_batch.h);
   // none: the best this CPU runs. Every ISA gives the same image; `lancer render --isa`
@@ -95,6 +99,8 @@ struct RenderStats {
   std::uint64_t primary_rays = 0;  // camera rays: width * height * spp
   // Traced before the first sample: the caustic photons, the blocks that show emitters.
   std::uint64_t setup_rays = 0;
+  // Traced by the light paths that take the caustics seen directly (render/light_tracer.h).
+  std::uint64_t light_rays = 0;
   // Thread-seconds spent inside the primary-ray tracing calls only, summed over threads.
   double primary_seconds = 0.0;
   PathBatchStats path_batches;  // the path tracer's only

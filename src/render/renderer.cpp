@@ -75,6 +75,28 @@ void check_render_state(const RenderState& st, const RenderSettings& s) {
     if (c < static_cast<std::uint32_t>(st.passes) || c > static_cast<std::uint32_t>(s.spp))
       fail("a pixel has " + std::to_string(c) + " samples after " + std::to_string(st.passes) +
            " full passes of " + std::to_string(s.spp));
+  if (st.light_passes < 0 || st.light_passes > s.spp)
+    fail(std::to_string(st.light_passes) + " light passes done, of " + std::to_string(s.spp) + " asked for");
+  if (st.light_passes > 0 && st.light.size() != st.pixels()) fail("light sums are not one per pixel");
+  if (!st.pending.empty() && (st.pending.size() != st.pixels() || st.light_passes >= s.spp))
+    fail("a pending light pass that is not one sum per pixel, or beyond the passes asked for");
+}
+
+void check_light_state(RenderState& state, std::uint64_t paths) {
+  if (paths == 0) {
+    if (state.light_passes > 0 || !state.pending.empty())
+      throw std::invalid_argument("render state: it holds light-traced caustics, which this render leaves to its paths");
+    return;
+  }
+  if ((state.light_passes > 0 || !state.pending.empty()) && state.light_paths != paths)
+    throw std::invalid_argument("render state: its light passes have " + std::to_string(state.light_paths) +
+                                " paths each, this render traces " + std::to_string(paths));
+  state.light_paths = paths;
+}
+
+std::uint64_t trace_pending_light(const SampleRenderer& sampler, RenderState& state) {
+  state.pending.assign(state.pixels(), glm::dvec3(0.0));
+  return sampler.trace_light_pass(state.light_passes, state.pending);
 }
 
 ImageRGB render_image(const Scene& scene, const Accelerator& accel, const PinholeCamera& camera,
@@ -103,10 +125,12 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
   std::atomic<std::uint64_t> total_primary_rays{0};
   std::atomic<Clock::rep> total_primary_ticks{0};  // summed over threads
   std::atomic<bool> halted{false};
+  std::uint64_t light_rays = 0;  // traced on this thread, between passes
 
   TileRunner runner(settings.threads);
   const SampleRenderer sampler(scene, accel, camera, settings, runner);
   total_rays += sampler.setup_rays();
+  check_light_state(state, sampler.light_paths_per_pass());
   auto must_stop = [&] {
     if (halted.load(std::memory_order_relaxed)) return true;
     if ((control.stop && control.stop->load(std::memory_order_relaxed) != 0) || (timed && Clock::now() >= deadline)) {
@@ -149,8 +173,20 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
   auto last_checkpoint = start;
   stats.passes = state.passes;
   for (s = state.passes; s < settings.spp && !must_stop(); ++s) {
+    // The light tracer's pass s before the samples of pass s, pending until the pass is
+    // done (and first any a resumed state lacks).
+    if (sampler.traces_light()) {
+      while (state.light_passes < s && !must_stop()) {
+        if (state.pending.empty()) light_rays += trace_pending_light(sampler, state);
+        state.commit_pending();
+      }
+      if (state.light_passes == s && state.pending.empty() && !must_stop())
+        light_rays += trace_pending_light(sampler, state);
+      if (halted.load()) break;
+    }
     runner.run(tiles, render_tile, progress, tiles.size() * static_cast<std::size_t>(settings.spp - resumed_pass));
     if (halted.load()) break;
+    if (state.light_passes == s) state.commit_pending();
     stats.passes = state.passes = s + 1;
     if (control.checkpoint_s > 0.0 && control.on_checkpoint && s + 1 < settings.spp &&
         std::chrono::duration<double>(Clock::now() - last_checkpoint).count() >= control.checkpoint_s) {
@@ -166,7 +202,8 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
   const std::uint32_t least = *lo;  // (clang 14 cannot capture a structured binding)
   stats.pixels_past_min_spp =
       static_cast<std::size_t>(std::count_if(count.begin(), count.end(), [least](std::uint32_t c) { return c > least; }));
-  stats.rays = total_rays.load();
+  stats.rays = total_rays.load() + light_rays;
+  stats.light_rays = light_rays;
   stats.path_batches = sampler.path_batches();
   stats.primary_rays = total_primary_rays.load();
   stats.setup_rays = sampler.setup_rays();

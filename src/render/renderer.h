@@ -9,6 +9,8 @@
 #include "render/image.h"
 #include "render/render_control.h"
 #include "render/render_settings.h"
+#include "render/render_state.h"
+#include "render/sample_renderer.h"
 #include "scene/scene.h"
 
 namespace lancer {
@@ -34,7 +36,9 @@ using ProgressCallback = std::function<void(std::size_t tiles_done, std::size_t 
 // integrators shade pixel by pixel. IntegratorKind::Sppm runs render_sppm
 // (render/sppm_render.h): settings.spp iterations of progressive photon mapping.
 // IntegratorKind::Photon first builds a caustic photon map (render/caustic_map.h) and then
-// runs the path tracer with it.
+// runs the path tracer with it. Where LightTracer::applies, each pass of the path tracer
+// also traces its light paths (render/light_tracer.h) before its samples; their sums are
+// RenderState's light sums, and stats.light_rays counts their rays.
 // Throws std::invalid_argument ("render settings: ...") unless `settings` can render `scene`
 // through `camera`: render_image's first step, for other drivers of SampleRenderer too.
 void check_render_settings(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings);
@@ -44,6 +48,14 @@ void check_render_settings(const Scene& scene, const PinholeCamera& camera, cons
 // most settings.spp samples. (One process stopped mid-pass leaves pixels at `passes` or one
 // more; a distributed render stopped early leaves its tiles further apart.)
 void check_render_state(const RenderState& state, const RenderSettings& settings);
+
+// Readies `state` for light passes of `paths` light paths each (SampleRenderer::
+// light_paths_per_pass; 0: the render traces none). Throws std::invalid_argument ("render
+// state: ...") when the state holds light passes this render cannot continue.
+void check_light_state(RenderState& state, std::uint64_t paths);
+
+// Traces the light pass state.light_passes into state.pending (zeroed first); returns its rays.
+std::uint64_t trace_pending_light(const SampleRenderer& sampler, RenderState& state);
 
 ImageRGB render_image(const Scene& scene, const Accelerator& accel, const PinholeCamera& camera,
                       const RenderSettings& settings, RenderStats& stats, const ProgressCallback& progress = {},

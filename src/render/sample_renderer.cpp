@@ -13,6 +13,7 @@
 #include "render/coverage.h"
 #include "render/debug_integrators.h"
 #include "render/light_emission.h"
+#include "render/light_tracer.h"
 #include "render/lights.h"
 #include "render/path.h"
 #include "render/pixel_filter.h"
@@ -30,6 +31,8 @@ struct SampleRenderer::Impl {
   std::optional<AreaLights> area_lights;
   std::optional<LightEmission> emission;
   std::optional<CausticMap> caustics;
+  std::optional<LightTracer> light_tracer;  // path: the caustics seen directly, where it applies
+  TileRunner& tile_runner;  // the light tracer's threads
   std::optional<PathIntegrator> path;
   std::optional<WhittedIntegrator> whitted;
   PixelFilter filter;
@@ -41,7 +44,7 @@ struct SampleRenderer::Impl {
   mutable tbb::enumerable_thread_specific<CameraEmission::Scratch> emission_scratch;
 
   Impl(const Scene& sc, const Accelerator& ac, const PinholeCamera& cam, const RenderSettings& s, TileRunner& runner)
-      : scene(sc), accel(ac), camera(cam), settings(s),
+      : scene(sc), accel(ac), camera(cam), settings(s), tile_runner(runner),
         filter(s.filter == PixelFilterType::Gaussian ? PixelFilter::gaussian() : PixelFilter::box()) {
     if (s.integrator == IntegratorKind::Sppm)
       throw std::invalid_argument("render settings: the sppm integrator renders by photon iterations, not samples");
@@ -61,9 +64,12 @@ struct SampleRenderer::Impl {
       cs.seed = s.seed;
       caustics.emplace(scene, accel, *emission, cs, runner);
     }
+    if (traces_paths && LightTracer::applies(scene, camera, s, *area_lights))
+      light_tracer.emplace(scene, accel, camera, *area_lights, s);
     if (traces_paths)
       path.emplace(scene, accel, *area_lights, s.environment, s.max_depth, s.light_samples,
-                   caustics ? &*caustics : nullptr, s.vector_isa.value_or(best_supported_isa()));
+                   caustics ? &*caustics : nullptr, s.vector_isa.value_or(best_supported_isa()),
+                   light_tracer ? &*light_tracer : nullptr);
     if (s.integrator == IntegratorKind::Whitted) whitted.emplace(scene, accel, *area_lights, s.max_depth, s.light_samples);
     if (traces_paths && s.emitter_samples > 0)
       camera_emission.emplace(scene, accel, camera, filter, s.width, s.height, s.emitter_samples, runner);
@@ -144,6 +150,19 @@ bool SampleRenderer::render_tile(const Tile& tile, int sample, const BlockWanted
   }
   counters.rays += rays;
   return true;
+}
+
+bool SampleRenderer::traces_light() const { return impl_->light_tracer.has_value(); }
+
+std::uint64_t SampleRenderer::light_paths_per_pass() const {
+  return impl_->light_tracer ? impl_->light_tracer->paths_per_pass() : 0;
+}
+
+std::uint64_t SampleRenderer::trace_light_pass(int pass, std::vector<glm::dvec3>& sum) const {
+  if (!impl_->light_tracer) return 0;
+  sum.resize(static_cast<std::size_t>(impl_->settings.width) * static_cast<std::size_t>(impl_->settings.height),
+             glm::dvec3(0.0));
+  return impl_->light_tracer->trace_pass(pass, impl_->tile_runner, sum);
 }
 
 std::uint64_t SampleRenderer::setup_rays() const {

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <vector>
 
 #include <glm/vec3.hpp>
 
@@ -52,6 +53,14 @@ class SampleRenderer {
   // Returns false when `stop` said so before the tile was done (blocks already taken stay).
   bool render_tile(const Tile& tile, int sample, const BlockWanted& wanted, const BlockTaken& take,
                    const StopCheck& stop, Counters& counters) const;
+
+  // Whether light paths take the caustics seen directly (render/light_tracer.h): then every
+  // pass also needs trace_light_pass, whose sums RenderState keeps apart from the pixels'.
+  bool traces_light() const;
+  std::uint64_t light_paths_per_pass() const;  // 0 without light tracing
+  // Adds light pass `pass`'s splats into sum (resized to one per pixel when empty), on the
+  // runner given at construction; returns its rays. Not from two threads at once.
+  std::uint64_t trace_light_pass(int pass, std::vector<glm::dvec3>& sum) const;
 
   // Rays traced while setting up (the caustic photons, the blocks that show emitters), not
   // in any Counters.

@@ -63,9 +63,15 @@ bool same_bits(const ImageRGB& a, const ImageRGB& b) {
          std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
 }
 
+bool same_doubles(const std::vector<glm::dvec3>& a, const std::vector<glm::dvec3>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::dvec3)) == 0;
+}
+
+// The samples' sums and counts, and the light tracer's sums (render/light_tracer.h).
 bool same_sums(const RenderState& a, const RenderState& b) {
-  return a.width == b.width && a.height == b.height && a.count == b.count && a.sum.size() == b.sum.size() &&
-         std::memcmp(a.sum.data(), b.sum.data(), a.sum.size() * sizeof(a.sum[0])) == 0;
+  return a.width == b.width && a.height == b.height && a.count == b.count && same_doubles(a.sum, b.sum) &&
+         a.light_passes == b.light_passes && a.light_paths == b.light_paths && same_doubles(a.light, b.light) &&
+         same_doubles(a.pending, b.pending);
 }
 
 PinholeCamera camera_for(const RenderSettings& s) {

@@ -71,8 +71,9 @@ TEST(PathBlock, BatchCountsAddUpToTheRaysTraced) {
   render_image(scene, kd, camera, s, stats);
   const PathBatchStats& b = stats.path_batches;
   EXPECT_EQ(stats.setup_rays + stats.primary_rays + b.continuation_rays + b.shadow_rays + b.crossing_rays +
-                b.emission_rays,
+                b.emission_rays + stats.light_rays,
             stats.rays);
+  EXPECT_GT(stats.light_rays, 0u);  // the spheres' caustics are light-traced
   // The light shows: its blocks were found, and their samples traced the emission's own rays.
   EXPECT_GT(stats.setup_rays, 0u);
   EXPECT_GT(b.emission_rays, 0u);

@@ -60,9 +60,15 @@ bool same_bits(const ImageRGB& a, const ImageRGB& b) {
          std::memcmp(a.rgb.data(), b.rgb.data(), a.rgb.size() * sizeof(float)) == 0;
 }
 
+bool same_sums(const std::vector<glm::dvec3>& a, const std::vector<glm::dvec3>& b) {
+  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::dvec3)) == 0;
+}
+
+// Every field, the light tracer's sums included.
 bool same_state(const RenderState& a, const RenderState& b) {
   return a.width == b.width && a.height == b.height && a.passes == b.passes && a.count == b.count &&
-         a.sum.size() == b.sum.size() && std::memcmp(a.sum.data(), b.sum.data(), a.sum.size() * sizeof(a.sum[0])) == 0;
+         same_sums(a.sum, b.sum) && a.light_passes == b.light_passes && a.light_paths == b.light_paths &&
+         same_sums(a.light, b.light) && same_sums(a.pending, b.pending);
 }
 
 ImageRGB render(const RenderSettings& s, RenderStats& stats, const ProgressCallback& p = {},

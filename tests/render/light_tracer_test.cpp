@@ -1,0 +1,215 @@
+// Light tracing for the path tracer's caustics seen directly (render/light_tracer.h):
+//  - the path tracer with it and without it agree within the noise over seeds where the
+//    path tracer alone finds every caustic (a large light over a glass pane and a mirror),
+//    also where the path length limit cuts paths: nothing is counted twice or missed;
+//  - it applies only where it can: the path integrator, a box filter, a perspective camera,
+//    nothing moving, delta materials and emissive triangles present;
+//  - a light path splats only after a delta bounce, and only within the depth limit;
+//  - images are bit-identical across thread counts, tile sizes and trace modes, and differ
+//    from the path tracer's alone.
+#include "render/light_tracer.h"
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "accel/kd_tree.h"
+#include "caustic_test_support.h"
+#include "render/lights.h"
+#include "render/renderer.h"
+#include "render_test_scenes.h"
+#include "scene/load_scene.h"
+#include "scene/procedural.h"
+#include "test_paths.h"
+
+namespace lancer {
+namespace {
+
+RenderSettings path_settings(int size, int spp) {
+  RenderSettings s;
+  s.width = s.height = size;
+  s.spp = spp;
+  s.threads = 2;
+  return s;
+}
+
+// A Lambertian floor lit by an area light (facing down) through a thin glass pane and by way
+// of a vertical mirror; some light goes mirror then pane. Seen from above: the floor directly
+// and through the pane, the mirror, the light. The light is large, so the path tracer alone
+// finds every caustic by BSDF sampling: the reference.
+struct GlassAndMirror {
+  Scene scene;
+  GlassAndMirror() {
+    const std::uint32_t floor = test::add_material(scene, test::diffuse_material(glm::vec3(0.6f, 0.5f, 0.4f)));
+    const std::uint32_t glass = test::add_material(scene, test::glass_material(1.5f));
+    const std::uint32_t mirror = test::add_material(scene, test::mirror_material(glm::vec3(0.9f)));
+    const std::uint32_t light = test::add_material(scene, test::emissive_material(glm::vec3(2.0f)));
+    test::add_square_z(scene, 0.0f, 0.0f, 0.0f, 1.0f, true, floor);
+    test::add_square_z(scene, 0.25f, 0.0f, 0.4f, 0.3f, true, glass);
+    append_quad(scene, glm::vec3(-0.5f, -0.5f, 0.0f), glm::vec3(-0.5f, 0.5f, 0.0f), glm::vec3(-0.5f, 0.5f, 0.7f),
+                glm::vec3(-0.5f, -0.5f, 0.7f), mirror);
+    test::add_square_z(scene, 0.0f, 0.0f, 1.0f, 0.3f, false, light);
+  }
+};
+
+PinholeCamera glass_and_mirror_camera(int size) {
+  return PinholeCamera::look_at(glm::vec3(0.3f, -1.1f, 1.5f), glm::vec3(0.0f, 0.0f, 0.1f), glm::vec3(0.0f, 0.0f, 1.0f),
+                                1.0f, size, size);
+}
+
+// Unbiased both ways, so every 4x4 block mean agrees within 5 combined standard errors over
+// 6 seeds (48 comparisons per depth; the seeds are fixed, so the outcome is too). Counting
+// the caustics twice (the path tracer not leaving them out) puts the floor under the pane
+// and beside the mirror far off; leaving out a path the light tracer does not take (one cut
+// by the depth limit on one side only) darkens them.
+TEST(LightTracer, AgreesWithThePathTracerAlone) {
+  const GlassAndMirror g;
+  const KdTree accel(g.scene.triangles);
+  constexpr int kSize = 32, kSeeds = 6, kSpp = 256;
+  const PinholeCamera camera = glass_and_mirror_camera(kSize);
+  {
+    const AreaLights lights(g.scene);
+    ASSERT_TRUE(LightTracer::applies(g.scene, camera, path_settings(kSize, kSpp), lights));
+  }
+  for (int max_depth : {2, 3, 8}) {
+    auto render = [&](bool light_traced, std::uint64_t seed) {
+      RenderSettings s = path_settings(kSize, kSpp);
+      s.seed = seed;
+      s.max_depth = max_depth;
+      s.light_traced_caustics = light_traced;
+      RenderStats stats;
+      const ImageRGB image = render_image(g.scene, accel, camera, s, stats);
+      EXPECT_EQ(stats.light_rays > 0, light_traced);
+      return image;
+    };
+    const test::SeedStats alone = test::over_seeds(kSeeds, [&](std::uint64_t seed) { return render(false, seed); });
+    const test::SeedStats with = test::over_seeds(kSeeds, [&](std::uint64_t seed) { return render(true, seed); });
+    const int resolved = test::expect_same_block_means(alone, with, "max_depth " + std::to_string(max_depth));
+    // Of 48: the black background's blocks aside, differences of 5 % are resolved in most.
+    EXPECT_GE(resolved, 27) << "max_depth " << max_depth;
+  }
+}
+
+// A floor lit only through two glass panes, one above the other (thin walls: one delta
+// scattering each), seen from below them. Camera - floor - pane - pane - light is three
+// scattering events: at max_depth 2 neither side may count it (the image is black: a light
+// tracer that joins one bounce too late lights the floor), at max_depth 3 both do and agree
+// (one that stops one bounce too early leaves it black).
+TEST(LightTracer, CutsPathsAtTheDepthLimitAsThePathTracerDoes) {
+  Scene scene;
+  const std::uint32_t floor = test::add_material(scene, test::diffuse_material(glm::vec3(0.5f)));
+  const std::uint32_t glass = test::add_material(scene, test::glass_material(1.5f));
+  const std::uint32_t light = test::add_material(scene, test::emissive_material(glm::vec3(3.0f)));
+  test::add_square_z(scene, 0.0f, 0.0f, 0.0f, 3.0f, true, floor);
+  test::add_square_z(scene, 0.0f, 0.0f, 0.5f, 3.0f, true, glass);
+  test::add_square_z(scene, 0.0f, 0.0f, 0.6f, 3.0f, true, glass);
+  test::add_square_z(scene, 0.0f, 0.0f, 1.0f, 1.0f, false, light);
+  const KdTree accel(scene.triangles);
+  constexpr int kSize = 16, kSeeds = 4;
+  const PinholeCamera camera = PinholeCamera::look_at(glm::vec3(0.0f, 0.0f, 0.3f), glm::vec3(0.0f),
+                                                      glm::vec3(0.0f, 1.0f, 0.0f), 1.0f, kSize, kSize);
+  auto render = [&](bool light_traced, int max_depth, std::uint64_t seed) {
+    RenderSettings s = path_settings(kSize, 128);
+    s.seed = seed;
+    s.max_depth = max_depth;
+    s.light_traced_caustics = light_traced;
+    RenderStats stats;
+    return render_image(scene, accel, camera, s, stats);
+  };
+  for (bool light_traced : {false, true}) {
+    const ImageRGB image = render(light_traced, 2, 1);
+    for (float v : image.rgb) ASSERT_EQ(v, 0.0f) << "max_depth 2, light traced " << light_traced;
+  }
+  const test::SeedStats alone = test::over_seeds(kSeeds, [&](std::uint64_t seed) { return render(false, 3, seed); });
+  const test::SeedStats with = test::over_seeds(kSeeds, [&](std::uint64_t seed) { return render(true, 3, seed); });
+  const int resolved = test::expect_same_block_means(alone, with, "max_depth 3");
+  EXPECT_EQ(resolved, 48) << "every block lit, and a 5 % difference visible in each";
+}
+
+TEST(LightTracer, AppliesOnlyWhereItCan) {
+  const Scene spheres = load_scene(test::scenes_dir() / "cornell-box-spheres.gltf");
+  const Scene plain = load_scene(test::scenes_dir() / "cornell-box.gltf");
+  const AreaLights spheres_lights(spheres), plain_lights(plain);
+  const PinholeCamera camera = PinholeCamera::from_desc(spheres.cameras.at(0), 16, 16);
+  const RenderSettings s = path_settings(16, 1);
+  EXPECT_TRUE(LightTracer::applies(spheres, camera, s, spheres_lights));
+  EXPECT_FALSE(LightTracer::applies(plain, camera, s, plain_lights)) << "no delta material";
+  RenderSettings off = s;
+  off.light_traced_caustics = false;
+  EXPECT_FALSE(LightTracer::applies(spheres, camera, off, spheres_lights));
+  for (IntegratorKind other : {IntegratorKind::Photon, IntegratorKind::Sppm, IntegratorKind::Whitted,
+                               IntegratorKind::Ao, IntegratorKind::Normals}) {
+    RenderSettings o = s;
+    o.integrator = other;
+    EXPECT_FALSE(LightTracer::applies(spheres, camera, o, spheres_lights)) << integrator_name(other);
+  }
+  RenderSettings gaussian = s;
+  gaussian.filter = PixelFilterType::Gaussian;
+  EXPECT_FALSE(LightTracer::applies(spheres, camera, gaussian, spheres_lights)) << "not a box filter";
+  RenderSettings shallow = s;
+  shallow.max_depth = 1;
+  EXPECT_FALSE(LightTracer::applies(spheres, camera, shallow, spheres_lights)) << "no room for a delta bounce";
+  PinholeCamera moving = camera;
+  moving.set_shutter_open(true);
+  EXPECT_FALSE(LightTracer::applies(spheres, moving, s, spheres_lights)) << "motion blur";
+  CameraDesc ortho;
+  ortho.orthographic = true;
+  ortho.xmag = ortho.ymag = 1.0f;
+  EXPECT_FALSE(LightTracer::applies(spheres, PinholeCamera::from_desc(ortho, 16, 16), s, spheres_lights));
+}
+
+// Splats come only from light that met a delta surface first: a glass pane over the floor
+// (at max_depth 2: one delta bounce, then the floor); without the pane, none. A path of more
+// scattering events than max_depth never splats (at max_depth 1 LightTracer::applies says no
+// anyway, and the path tracer keeps everything).
+TEST(LightTracer, SplatsOnlyAfterADeltaBounceWithinTheDepth) {
+  auto splats = [](int panes, int max_depth) {
+    Scene scene;
+    const std::uint32_t floor = test::add_material(scene, test::diffuse_material(glm::vec3(0.5f)));
+    const std::uint32_t glass = test::add_material(scene, test::glass_material(1.5f));
+    const std::uint32_t light = test::add_material(scene, test::emissive_material(glm::vec3(4.0f)));
+    test::add_square_z(scene, 0.0f, 0.0f, 0.0f, 2.0f, true, floor);
+    for (int k = 0; k < panes; ++k) test::add_square_z(scene, 0.0f, 0.0f, 0.5f + 0.1f * float(k), 2.0f, true, glass);
+    test::add_square_z(scene, 0.0f, 0.0f, 1.0f, 0.3f, false, light);
+    const KdTree accel(scene.triangles);
+    const AreaLights lights(scene);
+    RenderSettings s = path_settings(16, 1);
+    s.max_depth = max_depth;
+    const PinholeCamera camera = PinholeCamera::look_at(glm::vec3(0.0f, 0.0f, 0.3f), glm::vec3(0.0f),
+                                                        glm::vec3(0.0f, 1.0f, 0.0f), 1.0f, 16, 16);
+    const LightTracer tracer(scene, accel, camera, lights, s);
+    std::vector<LightTracer::Splat> out;
+    std::uint64_t rays = 0;
+    for (std::uint64_t i = 0; i < 4000; ++i) tracer.trace_path(i, out, rays);
+    EXPECT_GE(rays, 4000u);
+    for (const LightTracer::Splat& sp : out) {
+      EXPECT_LT(sp.pixel, 16u * 16u);
+      EXPECT_GT(sp.value.x, 0.0f);
+      EXPECT_TRUE(std::isfinite(sp.value.x));
+    }
+    return out.size();
+  };
+  EXPECT_GT(splats(1, 2), 50u) << "through the pane onto the floor, seen by the camera";
+  EXPECT_EQ(splats(0, 2), 0u) << "no delta surface: the floor's light is the path tracer's";
+  EXPECT_EQ(splats(1, 1), 0u) << "two scattering events do not fit in max_depth 1";
+  EXPECT_EQ(splats(2, 2), 0u) << "three scattering events do not fit in max_depth 2";
+  EXPECT_GT(splats(2, 3), 50u) << "they fit in max_depth 3";
+}
+
+TEST(LightTracer, BitIdenticalAcrossThreadsTilesAndModes) {
+  const Scene scene = load_scene(test::scenes_dir() / "cornell-box-spheres.gltf");
+  const KdTree accel(scene.triangles);
+  constexpr int kSize = 24;
+  const PinholeCamera camera = PinholeCamera::from_desc(scene.cameras.at(0), kSize, kSize);
+  const RenderSettings base = path_settings(kSize, 3);
+  const ImageRGB one = test::expect_bit_identical_across_threads_tiles_and_modes(scene, accel, camera, base);
+  RenderSettings alone = base;
+  alone.light_traced_caustics = false;
+  RenderStats stats;
+  EXPECT_FALSE(test::bitwise_equal(one, render_image(scene, accel, camera, alone, stats)));
+}
+
+}  // namespace
+}  // namespace lancer

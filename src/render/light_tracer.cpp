@@ -1,5 +1,6 @@
 #include "render/light_tracer.h"
 
+#include <algorithm>
 #include <cmath>
 
 #include <glm/geometric.hpp>
@@ -24,13 +25,30 @@ constexpr std::uint32_t kLightPathStreamY = 0xFFFFFFFDu;
 // Roughness below which a lobe may be delta (alpha = roughness^2 < kSmoothAlpha), with room.
 constexpr float kMaybeSmooth = 0.05f;
 
+// The least green value a texture can give (1 without one; roughness is in G): texels are
+// 8-bit, and filtering only blends them, so no lookup goes below the smallest. An image of
+// one or two channels is grey, its G the grey.
+float least_green(const Scene& scene, const TextureRef& ref) {
+  if (!ref.present() || static_cast<std::size_t>(ref.texture) >= scene.textures.size()) return 1.0f;
+  const int image = scene.textures[static_cast<std::size_t>(ref.texture)].image;
+  if (image < 0 || static_cast<std::size_t>(image) >= scene.images.size()) return 1.0f;
+  const Image& im = scene.images[static_cast<std::size_t>(image)];
+  if (im.channels <= 0 || im.pixels.empty()) return 1.0f;
+  const std::size_t stride = static_cast<std::size_t>(im.channels), green = im.channels >= 3 ? 1 : 0;
+  std::uint8_t least = 255;
+  for (std::size_t i = green; i < im.pixels.size(); i += stride) least = std::min(least, im.pixels[i]);
+  return static_cast<float>(least) / 255.0f;
+}
+
 // Whether material m may scatter by a delta lobe somewhere: only what decides whether light
 // tracing is worth its rays (a wrong "no" leaves the paths to the path tracer, still exact).
-bool may_scatter_delta(const Material& m) {
+// Roughness textures count by their smallest texel: a still life of textured rough metal
+// has none, and light paths there would be rays for nothing.
+bool may_scatter_delta(const Scene& scene, const Material& m) {
   if (m.unlit) return false;
-  const bool smooth_base = m.roughness < kMaybeSmooth || m.metallic_roughness_texture.present();
+  const bool smooth_base = m.roughness * least_green(scene, m.metallic_roughness_texture) < kMaybeSmooth;
   const bool smooth_coat = (m.clearcoat > 0.0f || m.clearcoat_texture.present()) &&
-                           (m.clearcoat_roughness < kMaybeSmooth || m.clearcoat_roughness_texture.present());
+                           m.clearcoat_roughness * least_green(scene, m.clearcoat_roughness_texture) < kMaybeSmooth;
   // A transmission of index about 1 passes light straight through whatever the roughness.
   const bool straight_through =
       (m.transmission > 0.0f || m.transmission_texture.present()) && std::abs(m.ior - 1.0f) < 0.01f;
@@ -60,7 +78,7 @@ bool LightTracer::applies(const Scene& scene, const PinholeCamera& camera, const
   if (settings.filter != PixelFilterType::Box || camera.orthographic() || camera.shutter_open()) return false;
   if (settings.max_depth < 2 || area_lights.empty()) return false;
   for (const Material& m : scene.materials)
-    if (may_scatter_delta(m)) return true;
+    if (may_scatter_delta(scene, m)) return true;
   return false;
 }
 
@@ -78,7 +96,10 @@ LightTracer::LightTracer(const Scene& scene, const Accelerator& accel, const Pin
                        kPixelsPerLightPath - 1) /
                       kPixelsPerLightPath),
       pixel_area_(4.0 * double(glm::length(camera.x_axis())) * double(glm::length(camera.y_axis())) /
-                  (double(camera.width()) * double(camera.height()))) {}
+                  (double(camera.width()) * double(camera.height()))) {
+  smooth_.reserve(scene.materials.size());
+  for (const Material& m : scene.materials) smooth_.push_back(may_scatter_delta(scene, m));
+}
 
 double LightTracer::camera_density(const glm::vec3& lens, const glm::vec3& x1, const glm::vec3& ng,
                                    const glm::vec3& w1, float pdf_w1) const {
@@ -110,7 +131,7 @@ void LightTracer::trace_path(std::uint64_t index, std::vector<Splat>& out, std::
   auto ends = [&](const Hit& hit, int bounces) {
     if (bounces > 0) return false;
     const Material& m = scene_.materials[scene_.material_id[hit.prim]];
-    return m.alpha_mode == AlphaMode::Opaque && !culls_back_faces(m) && !may_scatter_delta(m);
+    return m.alpha_mode == AlphaMode::Opaque && !culls_back_faces(m) && !smooth_[scene_.material_id[hit.prim]];
   };
   walk_photon(scene_, accel_, emission_, index, kLightPathStreamY, seed_, 1.0f, rays, [&](const PhotonVertex& v) {
     // This surface is scattering event bounces + 1 of the whole path, counted from the

@@ -120,6 +120,7 @@ class LightTracer {
   bool has_coverage_;
   std::uint64_t paths_per_pass_;
   double pixel_area_;  // on the image plane at distance 1 (PinholeCamera::importance's A)
+  std::vector<bool> smooth_;  // per material: may scatter by a delta lobe
   mutable std::vector<std::vector<Splat>> chunks_;
 };
 

@@ -136,6 +136,17 @@ TEST(LightTracer, AppliesOnlyWhereItCan) {
   const RenderSettings s = path_settings(16, 1);
   EXPECT_TRUE(LightTracer::applies(spheres, camera, s, spheres_lights));
   EXPECT_FALSE(LightTracer::applies(plain, camera, s, plain_lights)) << "no delta material";
+  // Textured roughness counts by its smallest texel: the still life's metals are rough
+  // everywhere, but a texel of 0 anywhere makes a material possibly smooth.
+  Scene still = load_scene(test::scenes_dir() / "textured" / "still-life.gltf");
+  const AreaLights still_lights(still);
+  EXPECT_FALSE(LightTracer::applies(still, camera, s, still_lights)) << "rough textures";
+  Material& textured = still.materials.at(0);
+  ASSERT_TRUE(textured.metallic_roughness_texture.present());
+  Image& image = still.images.at(static_cast<std::size_t>(
+      still.textures.at(static_cast<std::size_t>(textured.metallic_roughness_texture.texture)).image));
+  image.pixels.at(image.channels >= 3 ? 1 : 0) = 0;  // one texel's roughness (G) 0
+  EXPECT_TRUE(LightTracer::applies(still, camera, s, still_lights)) << "a smooth texel";
   RenderSettings off = s;
   off.light_traced_caustics = false;
   EXPECT_FALSE(LightTracer::applies(spheres, camera, off, spheres_lights));

@@ -57,6 +57,7 @@ std::string label(const std::string& key) {
   if (key == "frameTime") return "--frame-time";
   if (key == "shutter") return "--shutter";
   if (key == "emitterSamples") return "camera rays per sample on visible lights (render/camera_emission.h)";
+  if (key == "lightTracedCaustics") return "light-traced caustics (render/light_tracer.h)";
   return "--" + key;
 }
 
@@ -146,6 +147,9 @@ CheckpointFacts render_facts(const RenderOptions& options, const RenderSettings&
           // Not an option, but a render from before it (or with another count) would mix two
           // estimators of the emission seen directly: the same expectation, other bytes.
           {"emitterSamples", std::to_string(settings.emitter_samples)},
+          // Nor an option: a render from before the light-traced caustics (render/light_tracer.h)
+          // counted them in its samples at full weight.
+          {"lightTracedCaustics", settings.light_traced_caustics ? "1" : "0"},
           {"filter", settings.filter == PixelFilterType::Gaussian ? "gaussian" : "box"},
           {"camera", camera_text},
           {"environment", environment},

@@ -252,8 +252,10 @@ ImageRGB render_distributed(Channel& channel, const SampleRenderer& renderer, co
   if (!failure.empty()) report.warnings.push_back(failure);
 
   queue.settle_passes();
-  if (!stats.stopped)
-    while (renderer.traces_light() && state.light_passes < settings.spp) trace_light_pass();
+  // At least as many light passes as full passes of samples (a state a resume accepts), and
+  // all of them once the samples are all there.
+  while (renderer.traces_light() && state.light_passes < (queue.complete() ? settings.spp : state.passes))
+    trace_light_pass();
   stats.passes = state.passes;
   const auto [lo, hi] = std::minmax_element(state.count.begin(), state.count.end());
   stats.min_spp = *lo;

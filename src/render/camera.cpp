@@ -148,13 +148,11 @@ float PinholeCamera::importance(const glm::vec3& lens, const glm::vec3& p) const
   const glm::vec3 w = p - lens;
   const float along = glm::dot(w, forward_);
   if (!(along > 0.0f)) return 0.0f;
-  // The image plane at distance 1 is 2|x| by 2|y|; a direction at angle theta from f
-  // covers dA cos^3 theta of solid angle per unit area dA there.
-  const float pixel_area = 4.0f * glm::length(x_axis_) * glm::length(y_axis_) /
-                           (static_cast<float>(width_) * static_cast<float>(height_));
+  // A direction at angle theta from f covers dA cos^3 theta of solid angle per unit area dA
+  // of the image plane at distance 1.
   const float r2 = glm::dot(w, w);
   const float cos_theta = along / std::sqrt(r2);
-  return 1.0f / (pixel_area * r2 * cos_theta * cos_theta * cos_theta);
+  return 1.0f / (pixel_area() * r2 * cos_theta * cos_theta * cos_theta);
 }
 
 glm::vec2 concentric_disk(glm::vec2 u) {

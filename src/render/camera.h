@@ -17,6 +17,7 @@
 
 #include <limits>
 
+#include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
@@ -68,6 +69,11 @@ class PinholeCamera {
   // CameraPoint::importance of p seen from the lens point `lens`, whether or not p is in the
   // image (0 behind the lens plane).
   float importance(const glm::vec3& lens, const glm::vec3& p) const;
+  // A pixel's area on the image plane at distance 1 (2|x| by 2|y| over the pixels).
+  float pixel_area() const {
+    return 4.0f * glm::length(x_axis_) * glm::length(y_axis_) /
+           (static_cast<float>(width_) * static_cast<float>(height_));
+  }
 
   // aperture_radius in scene units (0: pinhole); focus_distance along the optical axis,
   // in scene units, > 0, may be +infinity. Throws std::invalid_argument otherwise, and for

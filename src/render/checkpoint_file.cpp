@@ -136,7 +136,6 @@ Checkpoint read_checkpoint(const std::filesystem::path& file) {
     for (int c = 0; c < 3; ++c) {
       const std::vector<std::uint32_t>& hi = channel(hi_of(c));
       const std::vector<std::uint32_t>& lo = channel(lo_of(c));
-      if (hi.size() != st.pixels() || lo.size() != st.pixels()) throw damaged("a channel is not one value per pixel");
       for (std::size_t p = 0; p < st.pixels(); ++p) {
         const std::uint64_t bits = std::uint64_t{hi[p]} << 32 | lo[p];
         std::memcpy(&sums[p][c], &bits, sizeof bits);
@@ -158,6 +157,13 @@ Checkpoint read_checkpoint(const std::filesystem::path& file) {
     st.light_paths = static_cast<std::uint64_t>(*light_paths);
     if (st.light_passes > 0) read_doubles(st.light, light_hi_name, light_lo_name);
     if (*light_pending == 1) read_doubles(st.pending, pending_hi_name, pending_lo_name);
+  }
+  // Light sums the attributes do not account for: written by something else.
+  for (const auto& [name, values] : extras.uint_channels) {
+    const bool light = name.rfind(std::string(kPrefix) + "light", 0) == 0;
+    const bool pending = name.rfind(std::string(kPrefix) + "pending", 0) == 0;
+    if ((light && st.light_passes == 0) || (pending && st.pending.empty()))
+      throw damaged("a " + name + " channel its light attributes do not account for");
   }
   std::string stored_digest;
   for (const auto& [name, value] : extras.strings) {

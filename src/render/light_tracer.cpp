@@ -11,6 +11,7 @@
 #include "render/photon_walk.h"
 #include "render/shading_inputs.h"
 #include "render/shadow_ray.h"
+#include "render/surface.h"
 #include "render/surface_bsdf.h"
 #include "render/tile_scheduler.h"
 
@@ -40,18 +41,20 @@ float least_green(const Scene& scene, const TextureRef& ref) {
   return static_cast<float>(least) / 255.0f;
 }
 
-// Whether material m may scatter by a delta lobe somewhere: only what decides whether light
-// tracing is worth its rays (a wrong "no" leaves the paths to the path tracer, still exact).
-// Roughness textures count by their smallest texel: a still life of textured rough metal
-// has none, and light paths there would be rays for nothing.
+// Whether material m may scatter by a delta lobe somewhere: a superset of the materials that
+// do (a light path ends at the others' surfaces, so a wrong "no" would lose paths the camera
+// side weighs as shared). Roughness textures count by their smallest texel: the still life's
+// textured metals are rough everywhere, and light paths there would be rays for nothing. A
+// roughness that is not a number counts as smooth.
 bool may_scatter_delta(const Scene& scene, const Material& m) {
   if (m.unlit) return false;
-  const bool smooth_base = m.roughness * least_green(scene, m.metallic_roughness_texture) < kMaybeSmooth;
-  const bool smooth_coat = (m.clearcoat > 0.0f || m.clearcoat_texture.present()) &&
-                           m.clearcoat_roughness * least_green(scene, m.clearcoat_roughness_texture) < kMaybeSmooth;
+  const bool smooth_base = !(m.roughness * least_green(scene, m.metallic_roughness_texture) >= kMaybeSmooth);
+  const bool smooth_coat =
+      (m.clearcoat > 0.0f || m.clearcoat_texture.present()) &&
+      !(m.clearcoat_roughness * least_green(scene, m.clearcoat_roughness_texture) >= kMaybeSmooth);
   // A transmission of index about 1 passes light straight through whatever the roughness.
   const bool straight_through =
-      (m.transmission > 0.0f || m.transmission_texture.present()) && std::abs(m.ior - 1.0f) < 0.01f;
+      (m.transmission > 0.0f || m.transmission_texture.present()) && !(std::abs(m.ior - 1.0f) >= 0.01f);
   return smooth_base || smooth_coat || straight_through;
 }
 
@@ -94,9 +97,7 @@ LightTracer::LightTracer(const Scene& scene, const Accelerator& accel, const Pin
       has_coverage_(scene_has_coverage(scene)),
       paths_per_pass_((static_cast<std::uint64_t>(settings.width) * static_cast<std::uint64_t>(settings.height) +
                        kPixelsPerLightPath - 1) /
-                      kPixelsPerLightPath),
-      pixel_area_(4.0 * double(glm::length(camera.x_axis())) * double(glm::length(camera.y_axis())) /
-                  (double(camera.width()) * double(camera.height()))) {
+                      kPixelsPerLightPath) {
   smooth_.reserve(scene.materials.size());
   for (const Material& m : scene.materials) smooth_.push_back(may_scatter_delta(scene, m));
 }
@@ -110,7 +111,8 @@ double LightTracer::camera_density(const glm::vec3& lens, const glm::vec3& x1, c
   const double along = glm::dot(w, camera_.forward());
   const float cos_w1 = std::abs(glm::dot(w1, ng));
   if (!(along > 0.0) || !(cos_w1 > 0.0f)) return 0.0;
-  return double(std::abs(glm::dot(w, ng))) * double(pdf_w1) / (double(cos_w1) * pixel_area_ * along * along * along);
+  return double(std::abs(glm::dot(w, ng))) * double(pdf_w1) /
+         (double(cos_w1) * double(camera_.pixel_area()) * along * along * along);
 }
 
 double LightTracer::light_density(std::uint32_t prim, std::uint32_t instance) const {
@@ -127,11 +129,14 @@ double LightTracer::light_density(std::uint32_t prim, std::uint32_t instance) co
 
 void LightTracer::trace_path(std::uint64_t index, std::vector<Splat>& out, std::uint64_t& rays) const {
   if (emission_.empty()) return;
-  // A light path whose first surface is opaque and never delta has nothing to bring.
-  auto ends = [&](const Hit& hit, int bounces) {
-    if (bounces > 0) return false;
+  auto ends = [&](const Ray& ray, const Hit& hit, int bounces) {
     const Material& m = scene_.materials[scene_.material_id[hit.prim]];
-    return m.alpha_mode == AlphaMode::Opaque && !culls_back_faces(m) && !smooth_[scene_.material_id[hit.prim]];
+    // A single-sided surface met from behind is passed by the light but would stop the
+    // camera's path going the other way: no path through it is shared (the camera side
+    // takes those alone, PathIntegrator's crossed_culled).
+    if (culls_back_faces(m) && !hits_front_face(scene_, hit.prim, hit.instance, ray)) return true;
+    // A first surface that is opaque and never delta: nothing to bring.
+    return bounces == 0 && m.alpha_mode == AlphaMode::Opaque && !smooth_[scene_.material_id[hit.prim]];
   };
   walk_photon(scene_, accel_, emission_, index, kLightPathStreamY, seed_, 1.0f, rays, [&](const PhotonVertex& v) {
     // This surface is scattering event bounces + 1 of the whole path, counted from the
@@ -153,17 +158,24 @@ void LightTracer::trace_path(std::uint64_t index, std::vector<Splat>& out, std::
         const ShadingInputs si = evaluate_shading(scene_, view, hit);
         const float cos_in = std::abs(glm::dot(v.wo, si.ng));
         const float cos_out = std::abs(glm::dot(wo, si.ng));
-        if (!si.unlit && cos_in > 0.0f && cos_out > 0.0f) {
+        // A culled back face (alpha 0 from the camera's side) is no surface to the camera.
+        if (!si.unlit && si.alpha > 0.0f && cos_in > 0.0f && cos_out > 0.0f) {
           const SurfaceScattering sc(si, wo);
           const BsdfEval e = sc.evaluate(v.wo);
-          const float share =
-              weight(static_cast<double>(paths_per_pass_) * v.start_density,
-                     camera_density(cam.lens, si.p, si.ng, v.wo, e.pdf));
+          // The camera side's density: p_cam(x1) = the importance times the cosine at x1.
+          const double camera = double(cos_out) * double(cam.importance) * double(e.pdf) / double(cos_in);
+          const float share = weight(static_cast<double>(paths_per_pass_) * v.start_density, camera);
           const glm::vec3 value = v.power * e.f * (share * cos_out * cam.importance / cos_in);
           if (!path_rules::is_black(value) && path_rules::is_finite(value)) {
-            const ShadowAim aim{cam.lens, true, 1.0f - kShadowShorten};
-            const Ray shadow = shadow_ray(aim, shadow_origin(leaving_offset(scene_, si), aim), view.time);
-            const float seen = shadow_visibility(scene_, accel_, shadow, has_coverage_, rays);
+            // Seen as the camera sees it: from the lens towards x1 (lifted off its surface
+            // on the lens's side), so coverage and single-sided surfaces count as for a
+            // camera ray.
+            const glm::vec3 lifted = offset_ray_origin(si.p, glm::dot(si.ng, wo) >= 0.0f ? si.ng : -si.ng);
+            Ray look;
+            look.org = cam.lens;
+            look.dir = lifted - cam.lens;
+            look.tfar = 1.0f - kShadowShorten;
+            const float seen = shadow_visibility(scene_, accel_, look, has_coverage_, rays);
             if (seen > 0.0f)
               out.push_back({static_cast<std::uint32_t>(cam.y) * static_cast<std::uint32_t>(camera_.width()) +
                                  static_cast<std::uint32_t>(cam.x),

@@ -23,7 +23,7 @@
 //   light paths:   N p_light(y) / |cos| at the light point y, N the paths of a pass (a pixel
 //                  takes one camera sample per pass).
 // Both are functions of the path alone (the choices of lobe along the chain are left out of
-// both), so the weights sum to 1 whichever side computes them. The other other estimator's
+// both), so the weights sum to 1 whichever side computes them. The other estimator's
 // paths to the light (the path tracer's: PathIntegrator's light_tracer) take weight
 // camera^2 / (camera^2 + light^2), the light tracer's its complement. A path of n scattering
 // events counts on either side only if n <= max_depth.
@@ -119,7 +119,6 @@ class LightTracer {
   std::uint64_t seed_;
   bool has_coverage_;
   std::uint64_t paths_per_pass_;
-  double pixel_area_;  // on the image plane at distance 1 (PinholeCamera::importance's A)
   std::vector<bool> smooth_;  // per material: may scatter by a delta lobe
   mutable std::vector<std::vector<Splat>> chunks_;
 };

@@ -269,6 +269,8 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
   if (si.alpha < 1.0f && path.crossings < kMaxCrossings && chance.passes(si.alpha)) {
     path.travelled += hit.t * dir_length;
     ++path.crossings;
+    // A single-sided surface passed from behind would stop a light path going the other way.
+    if (!si.front_face && culls_back_faces(*si.material)) path.crossed_culled = true;
     go_on(dir, leave());
     return true;
   }
@@ -332,7 +334,11 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
   path.prev_pdf = bs->pdf;
   path.prev_delta = bs->delta;
   path.scattered |= !bs->delta;
-  path.first_only = path.bounces == 0 ? !bs->delta : path.first_only && bs->delta;
+  // Shared with light paths only where one could take the same way back: never through a
+  // single-sided surface met from behind (render/light_tracer.h), which a transmission
+  // through such a surface would ask of it.
+  const bool reversible = !path.crossed_culled && !(bs->transmitted && culls_back_faces(*si.material));
+  path.first_only = (path.bounces == 0 ? !bs->delta : path.first_only && bs->delta) && reversible;
   if (light_tracer_ && path.bounces == 0 && !bs->delta)
     path.first_density = light_tracer_->camera_density(path.lens, si.p, si.ng, wi, bs->pdf);
   // Through a volume boundary the path enters (front face) or leaves the medium; through a

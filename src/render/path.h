@@ -113,8 +113,8 @@ class PathIntegrator {
   int light_samples_;
   bool has_coverage_;  // some material is MASK or BLEND (render/coverage.h)
   const CausticMap* caustics_;
-  Isa isa_;
-  const LightTracer* light_tracer_;  // of the vector passes over a bounce's paths (origins, geometry, sample values)
+  Isa isa_;  // of the vector passes over a bounce's paths (origins, geometry, sample values)
+  const LightTracer* light_tracer_;  // shares the caustics seen directly, or null
 };
 
 // The state of one path between bounces.
@@ -129,6 +129,7 @@ struct PathIntegrator::Path {
   bool first_only = false;  // the first BSDF sample was of a non-delta lobe, every later one delta
   double first_density = 0.0;  // with first_only: LightTracer::camera_density of the path
   glm::vec3 lens{0.0f};        // where its camera ray started
+  bool crossed_culled = false;  // it passed a single-sided surface from behind
   bool in_volume = false;
   glm::vec3 sigma_a{0.0f};
   bool emission_apart = false;  // until the first surface: radiance_block's emission_apart

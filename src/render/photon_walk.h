@@ -44,8 +44,7 @@ struct PhotonVertex {
   glm::vec3 wo;                 // unit, back towards where the photon came from
   glm::vec3 power;              // the flux it carries on arrival
   int bounces;                  // scattering events before this surface
-  const Ray& ray;               // the photon's ray, and its hit on this surface
-  const Hit& hit;
+  const Hit& hit;               // the photon's hit on this surface
   double start_density;         // EmittedPhoton::start_density of its light
 };
 
@@ -67,14 +66,14 @@ constexpr std::uint32_t kBounceDimensions = 4;
 
 // Ends no photon early (walk_photon's default `ends`).
 struct EndsNoPhoton {
-  bool operator()(const Hit&, int) const { return false; }
+  bool operator()(const Ray&, const Hit&, int) const { return false; }
 };
 
 // Walks photon `index` of stream (stream_y, seed), its power multiplied by power_scale.
 // visit(const PhotonVertex&) -> PhotonGoes is called at every surface the photon scatters
 // at (unlit surfaces absorb it first); `rays` counts the rays traced. `emission` must not
-// be empty. ends(hit, bounces) -> bool, asked at every hit before the surface is shaded,
-// may end the photon there: for a caller that knows the surface will not matter to it.
+// be empty. ends(ray, hit, bounces) -> bool, asked at every hit before the surface is
+// shaded, may end the photon there: for a caller that knows the surface will not matter to it.
 template <class Visit, class Ends = EndsNoPhoton>
 void walk_photon(const Scene& scene, const Accelerator& accel, const LightEmission& emission, std::uint64_t index,
                  std::uint32_t stream_y, std::uint64_t seed, float power_scale, std::uint64_t& rays, Visit&& visit,
@@ -97,7 +96,7 @@ void walk_photon(const Scene& scene, const Accelerator& accel, const LightEmissi
   for (;;) {
     ++rays;
     const Hit hit = accel.intersect(ray);
-    if (!hit.valid() || ends(hit, bounces)) return;
+    if (!hit.valid() || ends(ray, hit, bounces)) return;
     const float dir_length = glm::length(ray.dir);
     const glm::vec3 dir = ray.dir / dir_length;
     const float segment = hit.t * dir_length;
@@ -119,7 +118,7 @@ void walk_photon(const Scene& scene, const Accelerator& accel, const LightEmissi
     if (si.unlit) return;  // shows its colour, scatters nothing
     const glm::vec3 wo = -dir;
     const SurfaceScattering sc(si, wo);
-    const PhotonGoes goes = visit(PhotonVertex{si, sc, wo, beta, bounces, ray, hit, emitted.start_density});
+    const PhotonGoes goes = visit(PhotonVertex{si, sc, wo, beta, bounces, hit, emitted.start_density});
     if (goes == PhotonGoes::Stop) return;
     const float u_split = sc.bsdf.reads_split() ? sampler.get1(dims + kSplitDimension) : 0.0f;
     const std::optional<BsdfSample> bs = sc.sample(u_split, sampler.get2(dims + kBsdfDimensions));

@@ -52,7 +52,7 @@ struct RenderState {
     const bool ahead = !pending.empty();
     const double paths = static_cast<double>(light_paths);
     const double done_scale = light_passes > 0 ? 1.0 / (static_cast<double>(light_passes) * paths) : 0.0;
-    const double ahead_scale = 1.0 / (static_cast<double>(light_passes + 1) * paths);
+    const double ahead_scale = 1.0 / ((static_cast<double>(light_passes) + 1.0) * paths);
     for (std::size_t p = 0; p < pixels(); ++p) {
       glm::dvec3 mean = count[p] > 0 ? sum[p] / static_cast<double>(count[p]) : glm::dvec3(0.0);
       if (ahead && count[p] > static_cast<std::uint32_t>(light_passes))

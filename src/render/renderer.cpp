@@ -91,6 +91,11 @@ void check_light_state(RenderState& state, std::uint64_t paths) {
   if ((state.light_passes > 0 || !state.pending.empty()) && state.light_paths != paths)
     throw std::invalid_argument("render state: its light passes have " + std::to_string(state.light_paths) +
                                 " paths each, this render traces " + std::to_string(paths));
+  // Its samples were weighed against light passes it does not have (or against none).
+  if (state.light_passes < state.passes)
+    throw std::invalid_argument("render state: " + std::to_string(state.passes) + " passes of samples but " +
+                                std::to_string(state.light_passes) +
+                                " of light paths: it was not rendered with the light-traced caustics this render adds");
   state.light_paths = paths;
 }
 
@@ -173,16 +178,11 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
   auto last_checkpoint = start;
   stats.passes = state.passes;
   for (s = state.passes; s < settings.spp && !must_stop(); ++s) {
-    // The light tracer's pass s before the samples of pass s, pending until the pass is
-    // done (and first any a resumed state lacks).
-    if (sampler.traces_light()) {
-      while (state.light_passes < s && !must_stop()) {
-        if (state.pending.empty()) light_rays += trace_pending_light(sampler, state);
-        state.commit_pending();
-      }
-      if (state.light_passes == s && state.pending.empty() && !must_stop())
-        light_rays += trace_pending_light(sampler, state);
-      if (halted.load()) break;
+    // The light tracer's pass s before the samples of pass s, pending until the pass is done
+    // (check_light_state: a state never lacks light passes its samples had).
+    if (sampler.traces_light() && state.light_passes == s && state.pending.empty()) {
+      if (must_stop()) break;
+      light_rays += trace_pending_light(sampler, state);
     }
     runner.run(tiles, render_tile, progress, tiles.size() * static_cast<std::size_t>(settings.spp - resumed_pass));
     if (halted.load()) break;

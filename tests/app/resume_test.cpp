@@ -18,7 +18,9 @@
 #include "app/cli.h"
 #include "app/resume.h"
 #include "render/checkpoint_file.h"
+#include "render/camera.h"
 #include "render/image_io.h"
+#include "scene/load_scene.h"
 #include "test_paths.h"
 
 namespace lancer {
@@ -251,6 +253,32 @@ TEST(ResumeFacts, ACheckpointWithoutTheEmissionEstimateIsRefused) {
   old.facts = {{"emitterSamples", "2"}, {"seed", "7"}};
   EXPECT_THROW(check_resumable(old, now, "old.exr"), std::invalid_argument);
   old.facts = {{"emitterSamples", "4"}, {"seed", "7"}};
+  EXPECT_NO_THROW(check_resumable(old, now, "old.exr"));
+}
+
+// Nor one written before the path tracer traced light paths of its own
+// (render/light_tracer.h): its samples counted the caustics seen directly at full weight.
+TEST(ResumeFacts, ACheckpointWithoutLightTracedCausticsIsRefused) {
+  RenderOptions options;
+  options.scene = (test::scenes_dir() / "cornell-box-spheres.gltf").string();
+  const Scene scene = load_scene(options.scene);
+  RenderSettings settings;
+  settings.width = settings.height = 16;
+  const PinholeCamera camera = PinholeCamera::from_desc(scene.cameras.at(0), 16, 16);
+  const CheckpointFacts now = render_facts(options, settings, scene, camera);
+  const auto fact = std::find_if(now.begin(), now.end(), [](const auto& f) { return f.first == "lightTracedCaustics"; });
+  ASSERT_NE(fact, now.end());
+  EXPECT_EQ(fact->second, "1");
+  Checkpoint old;
+  for (const auto& f : now)
+    if (f.first != "lightTracedCaustics") old.facts.push_back(f);
+  try {
+    check_resumable(old, now, "old.exr");
+    ADD_FAILURE() << "resumed a checkpoint that does not record lightTracedCaustics";
+  } catch (const std::invalid_argument& e) {
+    EXPECT_NE(std::string(e.what()).find("light-traced caustics"), std::string::npos) << e.what();
+  }
+  old.facts = now;
   EXPECT_NO_THROW(check_resumable(old, now, "old.exr"));
 }
 

@@ -10,6 +10,8 @@
 #include "render/light_tracer.h"
 
 #include <cmath>
+#include <cstdint>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -18,6 +20,8 @@
 #include "accel/kd_tree.h"
 #include "caustic_test_support.h"
 #include "render/lights.h"
+#include "render/photon_walk.h"
+#include "render/render_state.h"
 #include "render/renderer.h"
 #include "render_test_scenes.h"
 #include "scene/load_scene.h"
@@ -128,6 +132,77 @@ TEST(LightTracer, CutsPathsAtTheDepthLimitAsThePathTracerDoes) {
   EXPECT_EQ(resolved, 48) << "every block lit, and a 5 % difference visible in each";
 }
 
+// Single-sided surfaces (glTF's default, culled from behind) stop a ray from their front
+// only: a light path and a camera path through one do not take the same way. Camera below a
+// rough single-sided translucent pane, a glass pane and a light above. Pane facing up: the
+// camera sees its back (passes through it), so no light path may join the camera there.
+// Pane facing down: the camera's paths scatter through it towards the light, which light
+// paths, meeting its back, cannot; the camera's paths keep those whole. Either way the
+// images agree with the camera's paths alone.
+TEST(LightTracer, SingleSidedSurfacesCountAsTheCameraSeesThem) {
+  for (bool facing_up : {true, false}) {
+    Scene scene;
+    Material translucent = test::diffuse_material(glm::vec3(0.8f));
+    translucent.double_sided = false;
+    translucent.transmission = 1.0f;
+    translucent.roughness = 0.5f;
+    const std::uint32_t pane = test::add_material(scene, translucent);
+    const std::uint32_t glass = test::add_material(scene, test::glass_material(1.5f));
+    const std::uint32_t light = test::add_material(scene, test::emissive_material(glm::vec3(8.0f)));
+    test::add_square_z(scene, 0.0f, 0.0f, 1.0f, 0.25f, false, light);
+    test::add_square_z(scene, 0.0f, 0.0f, 0.6f, 1.0f, true, glass);
+    test::add_square_z(scene, 0.0f, 0.0f, 0.3f, 1.0f, facing_up, pane);
+    const KdTree accel(scene.triangles);
+    constexpr int kSize = 16, kSeeds = 4;
+    const PinholeCamera camera = PinholeCamera::look_at(glm::vec3(0.0f, 0.0f, 0.05f), glm::vec3(0.0f, 0.0f, 1.0f),
+                                                        glm::vec3(0.0f, 1.0f, 0.0f), 1.2f, kSize, kSize);
+    {
+      const AreaLights lights(scene);
+      ASSERT_TRUE(LightTracer::applies(scene, camera, path_settings(kSize, 1), lights));
+    }
+    auto render = [&](bool light_traced, std::uint64_t seed) {
+      RenderSettings s = path_settings(kSize, 128);
+      s.seed = seed;
+      s.light_traced_caustics = light_traced;
+      RenderStats stats;
+      return render_image(scene, accel, camera, s, stats);
+    };
+    const test::SeedStats alone = test::over_seeds(kSeeds, [&](std::uint64_t seed) { return render(false, seed); });
+    const test::SeedStats with = test::over_seeds(kSeeds, [&](std::uint64_t seed) { return render(true, seed); });
+    const int resolved = test::expect_same_block_means(alone, with, facing_up ? "facing up" : "facing down");
+    // Of 48: the blocks that see only the black beyond the panes aside.
+    EXPECT_GE(resolved, 10) << (facing_up ? "facing up" : "facing down");
+  }
+}
+
+// A state whose samples took the caustics seen directly at full weight (rendered without
+// light paths) cannot go on with light paths: those caustics would count twice.
+TEST(LightTracer, RefusesToContinueAStateRenderedWithoutIt) {
+  const Scene scene = load_scene(test::scenes_dir() / "cornell-box-spheres.gltf");
+  const KdTree accel(scene.triangles);
+  const PinholeCamera camera = PinholeCamera::from_desc(scene.cameras.at(0), 16, 16);
+  RenderState state;
+  RenderControl control;
+  control.state = &state;
+  RenderSettings s = path_settings(16, 2);
+  s.light_traced_caustics = false;
+  RenderStats stats;
+  render_image(scene, accel, camera, s, stats, {}, control);
+  ASSERT_EQ(state.passes, 2);
+  s.spp = 4;
+  s.light_traced_caustics = true;
+  EXPECT_THROW(render_image(scene, accel, camera, s, stats, {}, control), std::invalid_argument);
+  // And the other way: light sums that a render without light paths would leave as they are.
+  RenderState lit;
+  control.state = &lit;
+  s.spp = 2;
+  render_image(scene, accel, camera, s, stats, {}, control);
+  ASSERT_EQ(lit.light_passes, 2);
+  s.spp = 4;
+  s.light_traced_caustics = false;
+  EXPECT_THROW(render_image(scene, accel, camera, s, stats, {}, control), std::invalid_argument);
+}
+
 TEST(LightTracer, AppliesOnlyWhereItCan) {
   const Scene spheres = load_scene(test::scenes_dir() / "cornell-box-spheres.gltf");
   const Scene plain = load_scene(test::scenes_dir() / "cornell-box.gltf");
@@ -209,12 +284,15 @@ TEST(LightTracer, SplatsOnlyAfterADeltaBounceWithinTheDepth) {
   EXPECT_GT(splats(2, 3), 50u) << "they fit in max_depth 3";
 }
 
+// 136 x 136: 4,624 light paths a pass, more than one chunk of them (kPhotonChunk), so the
+// chunks' order is what the threads must not change.
 TEST(LightTracer, BitIdenticalAcrossThreadsTilesAndModes) {
   const Scene scene = load_scene(test::scenes_dir() / "cornell-box-spheres.gltf");
   const KdTree accel(scene.triangles);
-  constexpr int kSize = 24;
+  constexpr int kSize = 136;
   const PinholeCamera camera = PinholeCamera::from_desc(scene.cameras.at(0), kSize, kSize);
-  const RenderSettings base = path_settings(kSize, 3);
+  const RenderSettings base = path_settings(kSize, 2);
+  ASSERT_GT(std::uint64_t(kSize) * kSize / kPixelsPerLightPath, std::uint64_t(kPhotonChunk));
   const ImageRGB one = test::expect_bit_identical_across_threads_tiles_and_modes(scene, accel, camera, base);
   RenderSettings alone = base;
   alone.light_traced_caustics = false;

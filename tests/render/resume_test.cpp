@@ -223,6 +223,12 @@ TEST(Resume, PixelsAtAnyCountsBetweenPassesAndSpp) {
     traced += (6 - least) * static_cast<std::uint64_t>((tile.x1 - tile.x0) * (tile.y1 - tile.y0));
   }
   pieced.passes = 1;
+  // The light tracer's sums are the image's, not a pixel's: a distributed render leaves them
+  // at least as far as its full passes (here 3 of 6).
+  pieced.light = after[3].light;
+  pieced.light_passes = after[3].light_passes;
+  pieced.light_paths = after[3].light_paths;
+  ASSERT_EQ(pieced.light_passes, 3);
   EXPECT_NO_THROW(check_render_state(pieced, settings(6, 1)));
   EXPECT_NO_THROW(check_render_state(pieced, settings(9, 1))) << "resumed to more samples";
   EXPECT_THROW(check_render_state(pieced, settings(5, 1)), std::invalid_argument) << "pixels beyond spp";
@@ -361,6 +367,46 @@ TEST_F(CheckpointFile, RefusesADamagedFile) {
   } catch (const ImageError& e) {
     EXPECT_NE(std::string(e.what()).find("lancer.count"), std::string::npos) << e.what();
   }
+}
+
+// The light tracer's sums (render/light_tracer.h: this scene's spheres have them, and a stop
+// mid-pass leaves a pending pass): every attribute and channel of them accounted for, or the
+// file is refused.
+TEST_F(CheckpointFile, RefusesDamagedLightSums) {
+  const RenderState state = stopped_after(settings(3, 1), kTiles + 4);
+  ASSERT_GT(state.light_passes, 0);
+  ASSERT_FALSE(state.pending.empty());
+  const fs::path file = dir_ / "state.exr";
+  write_checkpoint(state, facts_, file);
+  ExrExtras good;
+  const ImageRGB image = read_exr(file, good, "lancer.");
+  auto expect_refused = [&](const ExrExtras& extras, const std::string& what) {
+    write_exr(image, file, extras);
+    EXPECT_THROW(read_checkpoint(file), ImageError) << what;
+  };
+  for (const char* attribute : {"lancer.lightPasses", "lancer.lightPaths", "lancer.lightPending"}) {
+    ExrExtras e = good;
+    std::erase_if(e.ints, [&](const auto& i) { return i.first == attribute; });
+    expect_refused(e, std::string("without ") + attribute);
+  }
+  for (const char* channel : {"lancer.lightHi.G", "lancer.pendingLo.B"}) {
+    ExrExtras e = good;
+    std::erase_if(e.uint_channels, [&](const auto& c) { return c.first == channel; });
+    expect_refused(e, std::string("without ") + channel);
+  }
+  for (const auto& [name, value] : std::vector<std::pair<std::string, int>>{
+           {"lancer.lightPasses", 0}, {"lancer.lightPasses", -1}, {"lancer.lightPaths", 0}, {"lancer.lightPending", 2}}) {
+    ExrExtras e = good;
+    for (auto& i : e.ints)
+      if (i.first == name) i.second = value;
+    expect_refused(e, name + " = " + std::to_string(value));
+  }
+  ExrExtras no_pending = good;  // the pending pass's channels left behind
+  for (auto& i : no_pending.ints)
+    if (i.first == "lancer.lightPending") i.second = 0;
+  expect_refused(no_pending, "pending channels with lightPending = 0");
+  write_checkpoint(state, facts_, file);
+  EXPECT_NO_THROW(read_checkpoint(file));
 }
 
 // A file that asks for hundreds of full-image integer channels (each a full image of memory

@@ -82,26 +82,6 @@ TEST(CausticMap, CausticThroughAGlassPaneHasItsClosedForm) {
 
 // ---- Agreement with the path tracer -------------------------------------------------------
 
-// A Lambertian floor lit by an area light (facing down) through a thin glass pane and by way
-// of a vertical mirror; some light goes mirror then pane. Seen from above: the floor directly
-// and through the pane, the mirror, the light. The path tracer finds every caustic here by
-// BSDF sampling (the light is large), so the photon integrator must agree with it.
-struct GlassAndMirror {
-  Scene scene;
-  GlassAndMirror() {
-    const std::uint32_t floor = test::add_material(scene, test::diffuse_material(glm::vec3(0.6f, 0.5f, 0.4f)));
-    const std::uint32_t glass = test::add_material(scene, test::glass_material(1.5f));
-    const std::uint32_t mirror = test::add_material(scene, test::mirror_material(glm::vec3(0.9f)));
-    const std::uint32_t light = test::add_material(scene, test::emissive_material(glm::vec3(2.0f)));
-    test::add_square_z(scene, 0.0f, 0.0f, 0.0f, 1.0f, true, floor);
-    test::add_square_z(scene, 0.25f, 0.0f, 0.4f, 0.3f, true, glass);
-    // The mirror: x = -0.5, y in [-0.5, 0.5], z in [0, 0.7], facing +x.
-    append_quad(scene, glm::vec3(-0.5f, -0.5f, 0.0f), glm::vec3(-0.5f, 0.5f, 0.0f), glm::vec3(-0.5f, 0.5f, 0.7f),
-                glm::vec3(-0.5f, -0.5f, 0.7f), mirror);
-    test::add_square_z(scene, 0.0f, 0.0f, 1.0f, 0.3f, false, light);
-  }
-};
-
 // The photon map is consistent, not unbiased: its disc blurs the caustics. With a small
 // maximum radius and 300000 photons the blur is below the noise of these 4x4 block means,
 // and every block agrees within 5 combined standard errors over 6 seeds each (48 comparisons:
@@ -109,12 +89,11 @@ struct GlassAndMirror {
 // At max_depth 2 the photons that went mirror then pane must be left out, as the path tracer
 // cannot reach them.
 TEST(CausticMap, AgreesWithThePathTracerWhereItFindsTheCaustics) {
-  const GlassAndMirror g;
+  const test::GlassAndMirror g;
   const KdTree accel(g.scene.triangles);
   constexpr int kSize = 32, kSeeds = 6;
   constexpr int kPathSpp = 256, kPhotonSpp = 32, kPhotons = 300000;
-  const PinholeCamera camera = PinholeCamera::look_at(glm::vec3(0.3f, -1.1f, 1.5f), glm::vec3(0.0f, 0.0f, 0.1f),
-                                                      glm::vec3(0.0f, 0.0f, 1.0f), 1.0f, kSize, kSize);
+  const PinholeCamera camera = test::GlassAndMirror::camera(kSize);
   for (int max_depth : {3, 8}) {
     auto render = [&](IntegratorKind kind, std::uint64_t seed) {
       RenderSettings s = photon_settings(kSize, kind == IntegratorKind::Path ? kPathSpp : kPhotonSpp);

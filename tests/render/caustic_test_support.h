@@ -15,9 +15,11 @@
 #include <gtest/gtest.h>
 
 #include "render/bsdf.h"
+#include "render/camera.h"
 #include "render/image.h"
 #include "render/renderer.h"
 #include "render_test_scenes.h"
+#include "scene/procedural.h"
 #include "scene/scene.h"
 
 namespace lancer::test {
@@ -67,6 +69,31 @@ struct PaneCaustic {
     const float d = glm::length(to_light);
     const double cos_theta = to_light.z / d;
     return kRho / std::numbers::pi * kIntensity * cos_theta / (double(d) * d) * transmittance(to_light / d);
+  }
+};
+
+// A floor (Lambertian unless given) lit by an area light (facing down) through a thin glass
+// pane and by way of a vertical mirror; some light goes mirror then pane. Seen from above
+// (camera()): the floor directly and through the pane, the mirror, the light. The light is
+// large, so the path tracer alone finds every caustic by BSDF sampling: the reference the
+// caustic estimators (photon map, SPPM, light tracing) are held to.
+struct GlassAndMirror {
+  Scene scene;
+  explicit GlassAndMirror(const Material& floor_material = diffuse_material(glm::vec3(0.6f, 0.5f, 0.4f))) {
+    const std::uint32_t floor = add_material(scene, floor_material);
+    const std::uint32_t glass = add_material(scene, glass_material(1.5f));
+    const std::uint32_t mirror = add_material(scene, mirror_material(glm::vec3(0.9f)));
+    const std::uint32_t light = add_material(scene, emissive_material(glm::vec3(2.0f)));
+    add_square_z(scene, 0.0f, 0.0f, 0.0f, 1.0f, true, floor);
+    add_square_z(scene, 0.25f, 0.0f, 0.4f, 0.3f, true, glass);
+    // The mirror: x = -0.5, y in [-0.5, 0.5], z in [0, 0.7], facing +x.
+    append_quad(scene, glm::vec3(-0.5f, -0.5f, 0.0f), glm::vec3(-0.5f, 0.5f, 0.0f), glm::vec3(-0.5f, 0.5f, 0.7f),
+                glm::vec3(-0.5f, -0.5f, 0.7f), mirror);
+    add_square_z(scene, 0.0f, 0.0f, 1.0f, 0.3f, false, light);
+  }
+  static PinholeCamera camera(int size) {
+    return PinholeCamera::look_at(glm::vec3(0.3f, -1.1f, 1.5f), glm::vec3(0.0f, 0.0f, 0.1f),
+                                  glm::vec3(0.0f, 0.0f, 1.0f), 1.0f, size, size);
   }
 };
 

@@ -39,40 +39,16 @@ RenderSettings path_settings(int size, int spp) {
   return s;
 }
 
-// A Lambertian floor lit by an area light (facing down) through a thin glass pane and by way
-// of a vertical mirror; some light goes mirror then pane. Seen from above: the floor directly
-// and through the pane, the mirror, the light. The light is large, so the path tracer alone
-// finds every caustic by BSDF sampling: the reference.
-struct GlassAndMirror {
-  Scene scene;
-  GlassAndMirror() {
-    const std::uint32_t floor = test::add_material(scene, test::diffuse_material(glm::vec3(0.6f, 0.5f, 0.4f)));
-    const std::uint32_t glass = test::add_material(scene, test::glass_material(1.5f));
-    const std::uint32_t mirror = test::add_material(scene, test::mirror_material(glm::vec3(0.9f)));
-    const std::uint32_t light = test::add_material(scene, test::emissive_material(glm::vec3(2.0f)));
-    test::add_square_z(scene, 0.0f, 0.0f, 0.0f, 1.0f, true, floor);
-    test::add_square_z(scene, 0.25f, 0.0f, 0.4f, 0.3f, true, glass);
-    append_quad(scene, glm::vec3(-0.5f, -0.5f, 0.0f), glm::vec3(-0.5f, 0.5f, 0.0f), glm::vec3(-0.5f, 0.5f, 0.7f),
-                glm::vec3(-0.5f, -0.5f, 0.7f), mirror);
-    test::add_square_z(scene, 0.0f, 0.0f, 1.0f, 0.3f, false, light);
-  }
-};
-
-PinholeCamera glass_and_mirror_camera(int size) {
-  return PinholeCamera::look_at(glm::vec3(0.3f, -1.1f, 1.5f), glm::vec3(0.0f, 0.0f, 0.1f), glm::vec3(0.0f, 0.0f, 1.0f),
-                                1.0f, size, size);
-}
-
 // Unbiased both ways, so every 4x4 block mean agrees within 5 combined standard errors over
 // 6 seeds (48 comparisons per depth; the seeds are fixed, so the outcome is too). Counting
 // the caustics twice (the path tracer not leaving them out) puts the floor under the pane
 // and beside the mirror far off; leaving out a path the light tracer does not take (one cut
 // by the depth limit on one side only) darkens them.
 TEST(LightTracer, AgreesWithThePathTracerAlone) {
-  const GlassAndMirror g;
+  const test::GlassAndMirror g;
   const KdTree accel(g.scene.triangles);
   constexpr int kSize = 32, kSeeds = 6, kSpp = 256;
-  const PinholeCamera camera = glass_and_mirror_camera(kSize);
+  const PinholeCamera camera = test::GlassAndMirror::camera(kSize);
   {
     const AreaLights lights(g.scene);
     ASSERT_TRUE(LightTracer::applies(g.scene, camera, path_settings(kSize, kSpp), lights));

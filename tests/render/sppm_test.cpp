@@ -151,23 +151,14 @@ TEST(Sppm, SceneWithoutLightsIsBlackAndAnEnvironmentLightsIt) {
 // visible point by beta instead of beta / (1 - p_delta) fails 30 of the 144 comparisons.
 // *Heavy: about 20 s here.
 TEST(SppmHeavy, AgreesWithThePathTracerOnCoatsCausticsAndDepthLimits) {
-  Scene scene;
   Material coated = test::diffuse_material(glm::vec3(0.6f, 0.5f, 0.4f));
   coated.clearcoat = 1.0f;
   coated.clearcoat_roughness = 0.0f;
-  const std::uint32_t floor = test::add_material(scene, coated);
-  const std::uint32_t glass = test::add_material(scene, test::glass_material(1.5f));
-  const std::uint32_t mirror = test::add_material(scene, test::mirror_material(glm::vec3(0.9f)));
-  const std::uint32_t light = test::add_material(scene, test::emissive_material(glm::vec3(2.0f)));
-  test::add_square_z(scene, 0.0f, 0.0f, 0.0f, 1.0f, true, floor);
-  test::add_square_z(scene, 0.25f, 0.0f, 0.4f, 0.3f, true, glass);
-  append_quad(scene, glm::vec3(-0.5f, -0.5f, 0.0f), glm::vec3(-0.5f, 0.5f, 0.0f), glm::vec3(-0.5f, 0.5f, 0.7f),
-              glm::vec3(-0.5f, -0.5f, 0.7f), mirror);
-  test::add_square_z(scene, 0.0f, 0.0f, 1.0f, 0.3f, false, light);
+  const test::GlassAndMirror g(coated);
+  const Scene& scene = g.scene;
   const KdTree accel(scene.triangles);
   constexpr int kSize = 32, kSeeds = 6;
-  const PinholeCamera camera = PinholeCamera::look_at(glm::vec3(0.3f, -1.1f, 1.5f), glm::vec3(0.0f, 0.0f, 0.1f),
-                                                      glm::vec3(0.0f, 0.0f, 1.0f), 1.0f, kSize, kSize);
+  const PinholeCamera camera = test::GlassAndMirror::camera(kSize);
   for (int max_depth : {2, 3, 8}) {
     auto render = [&](IntegratorKind kind, std::uint64_t seed) {
       RenderSettings s = sppm_settings(kSize, kind == IntegratorKind::Path ? 256 : 64);

@@ -203,6 +203,8 @@ ImageRGB render_distributed(Channel& channel, const SampleRenderer& renderer, co
     if (state.pending.empty()) light_rays += trace_pending_light(renderer, state);
     state.commit_pending();
   };
+  // Light pass 0 before any sample (check_light_state tells a state by it).
+  if (renderer.traces_light() && state.light_passes == 0 && settings.spp > 0) trace_light_pass();
   while (!queue.complete()) {
     if (interrupted() || (timed && Clock::now() >= deadline) || !failure.empty()) break;
     const bool any = poll();
@@ -252,10 +254,9 @@ ImageRGB render_distributed(Channel& channel, const SampleRenderer& renderer, co
   if (!failure.empty()) report.warnings.push_back(failure);
 
   queue.settle_passes();
-  // At least as many light passes as full passes of samples (a state a resume accepts), and
-  // all of them once the samples are all there.
-  while (renderer.traces_light() && state.light_passes < (queue.complete() ? settings.spp : state.passes))
-    trace_light_pass();
+  // All the light passes once the samples are all there (a stopped render's resume traces
+  // any it lacks).
+  while (renderer.traces_light() && queue.complete() && state.light_passes < settings.spp) trace_light_pass();
   stats.passes = state.passes;
   const auto [lo, hi] = std::minmax_element(state.count.begin(), state.count.end());
   stats.min_spp = *lo;

@@ -26,19 +26,26 @@ constexpr std::uint32_t kLightPathStreamY = 0xFFFFFFFDu;
 // Roughness below which a lobe may be delta (alpha = roughness^2 < kSmoothAlpha), with room.
 constexpr float kMaybeSmooth = 0.05f;
 
-// The least green value a texture can give (1 without one; roughness is in G): texels are
+// Per image, the least green value a lookup of it can give (roughness is in G): texels are
 // 8-bit, and filtering only blends them, so no lookup goes below the smallest. An image of
-// one or two channels is grey, its G the grey.
-float least_green(const Scene& scene, const TextureRef& ref) {
+// one or two channels is grey, its G the grey. Each image is read once.
+std::vector<float> least_greens(const Scene& scene) {
+  std::vector<float> least(scene.images.size(), 1.0f);
+  for (std::size_t k = 0; k < scene.images.size(); ++k) {
+    const Image& im = scene.images[k];
+    if (im.channels <= 0 || im.pixels.empty()) continue;
+    const std::size_t stride = static_cast<std::size_t>(im.channels), green = im.channels >= 3 ? 1 : 0;
+    std::uint8_t g = 255;
+    for (std::size_t i = green; i < im.pixels.size(); i += stride) g = std::min(g, im.pixels[i]);
+    least[k] = static_cast<float>(g) / 255.0f;
+  }
+  return least;
+}
+
+float least_green(const Scene& scene, const std::vector<float>& least, const TextureRef& ref) {
   if (!ref.present() || static_cast<std::size_t>(ref.texture) >= scene.textures.size()) return 1.0f;
   const int image = scene.textures[static_cast<std::size_t>(ref.texture)].image;
-  if (image < 0 || static_cast<std::size_t>(image) >= scene.images.size()) return 1.0f;
-  const Image& im = scene.images[static_cast<std::size_t>(image)];
-  if (im.channels <= 0 || im.pixels.empty()) return 1.0f;
-  const std::size_t stride = static_cast<std::size_t>(im.channels), green = im.channels >= 3 ? 1 : 0;
-  std::uint8_t least = 255;
-  for (std::size_t i = green; i < im.pixels.size(); i += stride) least = std::min(least, im.pixels[i]);
-  return static_cast<float>(least) / 255.0f;
+  return image >= 0 && static_cast<std::size_t>(image) < least.size() ? least[static_cast<std::size_t>(image)] : 1.0f;
 }
 
 // Whether material m may scatter by a delta lobe somewhere: a superset of the materials that
@@ -46,16 +53,29 @@ float least_green(const Scene& scene, const TextureRef& ref) {
 // side weighs as shared). Roughness textures count by their smallest texel: the still life's
 // textured metals are rough everywhere, and light paths there would be rays for nothing. A
 // roughness that is not a number counts as smooth.
-bool may_scatter_delta(const Scene& scene, const Material& m) {
+bool may_scatter_delta(const Scene& scene, const std::vector<float>& least, const Material& m) {
   if (m.unlit) return false;
-  const bool smooth_base = !(m.roughness * least_green(scene, m.metallic_roughness_texture) >= kMaybeSmooth);
+  const bool smooth_base = !(m.roughness * least_green(scene, least, m.metallic_roughness_texture) >= kMaybeSmooth);
   const bool smooth_coat =
       (m.clearcoat > 0.0f || m.clearcoat_texture.present()) &&
-      !(m.clearcoat_roughness * least_green(scene, m.clearcoat_roughness_texture) >= kMaybeSmooth);
+      !(m.clearcoat_roughness * least_green(scene, least, m.clearcoat_roughness_texture) >= kMaybeSmooth);
   // A transmission of index about 1 passes light straight through whatever the roughness.
   const bool straight_through =
       (m.transmission > 0.0f || m.transmission_texture.present()) && !(std::abs(m.ior - 1.0f) >= 0.01f);
   return smooth_base || smooth_coat || straight_through;
+}
+
+// Whether light and camera paths through material m could take ways the other cannot: a
+// single-sided surface (culled from behind) that light passes from its front, by coverage or
+// by transmission, where a camera path going the other way meets its back and passes it
+// without a vertex; a volume that absorbs (KHR_materials_volume), which a light path leaving
+// an emitter inside it does not know it is in. Scenes with such materials keep the camera's
+// paths alone. (Opaque single-sided surfaces are handled: a path passing one from behind is
+// not shared, path.cpp's crossed_culled and the light side's `ends`.)
+bool breaks_reciprocity(const Material& m) {
+  const bool passes_light = m.alpha_mode != AlphaMode::Opaque || m.transmission > 0.0f || m.transmission_texture.present();
+  const bool absorbs = !is_thin_walled(m) && m.attenuation_distance > 0.0f && std::isfinite(m.attenuation_distance);
+  return (culls_back_faces(m) && passes_light) || absorbs;
 }
 
 // The lens point's two uniform values for light path `index` at its `bounces`-th surface:
@@ -80,9 +100,10 @@ bool LightTracer::applies(const Scene& scene, const PinholeCamera& camera, const
   if (!settings.light_traced_caustics || settings.integrator != IntegratorKind::Path) return false;
   if (settings.filter != PixelFilterType::Box || camera.orthographic() || camera.shutter_open()) return false;
   if (settings.max_depth < 2 || area_lights.empty()) return false;
-  for (const Material& m : scene.materials)
-    if (may_scatter_delta(scene, m)) return true;
-  return false;
+  if (std::any_of(scene.materials.begin(), scene.materials.end(), breaks_reciprocity)) return false;
+  const std::vector<float> least = least_greens(scene);
+  return std::any_of(scene.materials.begin(), scene.materials.end(),
+                     [&](const Material& m) { return may_scatter_delta(scene, least, m); });
 }
 
 LightTracer::LightTracer(const Scene& scene, const Accelerator& accel, const PinholeCamera& camera,
@@ -98,8 +119,9 @@ LightTracer::LightTracer(const Scene& scene, const Accelerator& accel, const Pin
       paths_per_pass_((static_cast<std::uint64_t>(settings.width) * static_cast<std::uint64_t>(settings.height) +
                        kPixelsPerLightPath - 1) /
                       kPixelsPerLightPath) {
+  const std::vector<float> least = least_greens(scene);
   smooth_.reserve(scene.materials.size());
-  for (const Material& m : scene.materials) smooth_.push_back(may_scatter_delta(scene, m));
+  for (const Material& m : scene.materials) smooth_.push_back(may_scatter_delta(scene, least, m));
 }
 
 double LightTracer::camera_density(const glm::vec3& lens, const glm::vec3& x1, const glm::vec3& ng,
@@ -132,8 +154,9 @@ void LightTracer::trace_path(std::uint64_t index, std::vector<Splat>& out, std::
   auto ends = [&](const Ray& ray, const Hit& hit, int bounces) {
     const Material& m = scene_.materials[scene_.material_id[hit.prim]];
     // A single-sided surface met from behind is passed by the light but would stop the
-    // camera's path going the other way: no path through it is shared (the camera side
-    // takes those alone, PathIntegrator's crossed_culled).
+    // camera's path going the other way (it is opaque, LightTracer::applies): no path
+    // through it is shared (the camera side takes those alone, PathIntegrator's
+    // crossed_culled).
     if (culls_back_faces(m) && !hits_front_face(scene_, hit.prim, hit.instance, ray)) return true;
     // A first surface that is opaque and never delta: nothing to bring.
     return bounces == 0 && m.alpha_mode == AlphaMode::Opaque && !smooth_[scene_.material_id[hit.prim]];

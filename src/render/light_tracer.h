@@ -72,8 +72,10 @@ class LightTracer {
   // Whether light tracing takes these paths in this render: the path integrator, a box
   // pixel filter, a perspective camera (pinhole or thin lens; an orthographic camera has no
   // point to join), nothing moving (the shutter closed), emissive triangles, a material that
-  // may scatter by a delta lobe, max_depth >= 2 and settings.light_traced_caustics.
-  // Elsewhere the path tracer keeps these paths itself.
+  // may scatter by a delta lobe, no single-sided surface that lets light through (coverage,
+  // transmission) and no absorbing volume (where light and camera paths would not take the
+  // same ways), max_depth >= 2 and settings.light_traced_caustics. Elsewhere the path
+  // tracer keeps these paths itself.
   static bool applies(const Scene& scene, const PinholeCamera& camera, const RenderSettings& settings,
                       const AreaLights& area_lights);
 

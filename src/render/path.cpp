@@ -269,8 +269,10 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
   if (si.alpha < 1.0f && path.crossings < kMaxCrossings && chance.passes(si.alpha)) {
     path.travelled += hit.t * dir_length;
     ++path.crossings;
-    // A single-sided surface passed from behind would stop a light path going the other way.
-    if (!si.front_face && culls_back_faces(*si.material)) path.crossed_culled = true;
+    // A single-sided surface passed from behind after the first scattering would stop a
+    // light path going the other way (before it, the light side's join to the lens passes it
+    // as this path did).
+    if (path.bounces > 0 && !si.front_face && culls_back_faces(*si.material)) path.crossed_culled = true;
     go_on(dir, leave());
     return true;
   }
@@ -282,7 +284,7 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
     float w = 1.0f;
     // Reached through delta bounces from a first, non-delta scattering: shared with the
     // light tracer's paths.
-    if (light_tracer_ && path.prev_delta && path.first_only)
+    if (light_tracer_ && path.prev_delta && path.first_only && !path.crossed_culled)
       w = LightTracer::weight(path.first_density, light_tracer_->light_density(hit.prim, hit.instance));
     if (!path.prev_delta) {
       const float pdf_area = area_lights_.pdf_area(hit.prim, hit.instance);
@@ -334,11 +336,7 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
   path.prev_pdf = bs->pdf;
   path.prev_delta = bs->delta;
   path.scattered |= !bs->delta;
-  // Shared with light paths only where one could take the same way back: never through a
-  // single-sided surface met from behind (render/light_tracer.h), which a transmission
-  // through such a surface would ask of it.
-  const bool reversible = !path.crossed_culled && !(bs->transmitted && culls_back_faces(*si.material));
-  path.first_only = (path.bounces == 0 ? !bs->delta : path.first_only && bs->delta) && reversible;
+  path.first_only = path.bounces == 0 ? !bs->delta : path.first_only && bs->delta;
   if (light_tracer_ && path.bounces == 0 && !bs->delta)
     path.first_density = light_tracer_->camera_density(path.lens, si.p, si.ng, wi, bs->pdf);
   // Through a volume boundary the path enters (front face) or leaves the medium; through a

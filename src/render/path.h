@@ -129,7 +129,7 @@ struct PathIntegrator::Path {
   bool first_only = false;  // the first BSDF sample was of a non-delta lobe, every later one delta
   double first_density = 0.0;  // with first_only: LightTracer::camera_density of the path
   glm::vec3 lens{0.0f};        // where its camera ray started
-  bool crossed_culled = false;  // it passed a single-sided surface from behind
+  bool crossed_culled = false;  // since its first scattering it passed a single-sided surface from behind
   bool in_volume = false;
   glm::vec3 sigma_a{0.0f};
   bool emission_apart = false;  // until the first surface: radiance_block's emission_apart

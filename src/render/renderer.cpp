@@ -75,11 +75,11 @@ void check_render_state(const RenderState& st, const RenderSettings& s) {
     if (c < static_cast<std::uint32_t>(st.passes) || c > static_cast<std::uint32_t>(s.spp))
       fail("a pixel has " + std::to_string(c) + " samples after " + std::to_string(st.passes) +
            " full passes of " + std::to_string(s.spp));
-  if (st.light_passes < 0 || st.light_passes > s.spp)
-    fail(std::to_string(st.light_passes) + " light passes done, of " + std::to_string(s.spp) + " asked for");
+  // (Light passes may run ahead of the samples: a distributed render's rank 0 traces them
+  // while the others sample.)
+  if (st.light_passes < 0) fail(std::to_string(st.light_passes) + " light passes done: a count cannot be negative");
   if (st.light_passes > 0 && st.light.size() != st.pixels()) fail("light sums are not one per pixel");
-  if (!st.pending.empty() && (st.pending.size() != st.pixels() || st.light_passes >= s.spp))
-    fail("a pending light pass that is not one sum per pixel, or beyond the passes asked for");
+  if (!st.pending.empty() && st.pending.size() != st.pixels()) fail("a pending light pass that is not one sum per pixel");
 }
 
 void check_light_state(RenderState& state, std::uint64_t paths) {
@@ -91,11 +91,13 @@ void check_light_state(RenderState& state, std::uint64_t paths) {
   if ((state.light_passes > 0 || !state.pending.empty()) && state.light_paths != paths)
     throw std::invalid_argument("render state: its light passes have " + std::to_string(state.light_paths) +
                                 " paths each, this render traces " + std::to_string(paths));
-  // Its samples were weighed against light passes it does not have (or against none).
-  if (state.light_passes < state.passes)
-    throw std::invalid_argument("render state: " + std::to_string(state.passes) + " passes of samples but " +
-                                std::to_string(state.light_passes) +
-                                " of light paths: it was not rendered with the light-traced caustics this render adds");
+  // Samples without any light pass: rendered without light tracing, they counted the paths
+  // it shares at full weight. (A render with it traces light pass 0 before any sample; later
+  // light passes a distributed render had not traced yet are traced on resuming.)
+  if (state.passes > 0 && state.light_passes == 0 && state.pending.empty())
+    throw std::invalid_argument("render state: " + std::to_string(state.passes) +
+                                " passes of samples but no light paths: it was not rendered with the light-traced "
+                                "caustics this render adds");
   state.light_paths = paths;
 }
 
@@ -179,10 +181,15 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
   stats.passes = state.passes;
   for (s = state.passes; s < settings.spp && !must_stop(); ++s) {
     // The light tracer's pass s before the samples of pass s, pending until the pass is done
-    // (check_light_state: a state never lacks light passes its samples had).
-    if (sampler.traces_light() && state.light_passes == s && state.pending.empty()) {
-      if (must_stop()) break;
-      light_rays += trace_pending_light(sampler, state);
+    // (and first those a resumed distributed render's state had not traced yet).
+    if (sampler.traces_light()) {
+      while (state.light_passes < s && !must_stop()) {
+        if (state.pending.empty()) light_rays += trace_pending_light(sampler, state);
+        state.commit_pending();
+      }
+      if (state.light_passes == s && state.pending.empty() && !must_stop())
+        light_rays += trace_pending_light(sampler, state);
+      if (halted.load()) break;
     }
     runner.run(tiles, render_tile, progress, tiles.size() * static_cast<std::size_t>(settings.spp - resumed_pass));
     if (halted.load()) break;

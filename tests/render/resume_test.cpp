@@ -245,6 +245,29 @@ TEST(Resume, PixelsAtAnyCountsBetweenPassesAndSpp) {
   }
 }
 
+// A distributed render's rank 0 may save a state whose light passes (render/light_tracer.h)
+// lag its samples: they do not depend on the samples, so resuming traces the missing ones,
+// in order, and ends with the uninterrupted render's image and sums.
+TEST(Resume, LightPassesBehindTheSamplesAreTracedOnResuming) {
+  std::vector<RenderState> after;  // [k - 1]: the state after k passes
+  RenderState full;
+  RenderControl control;
+  control.state = &full;
+  control.checkpoint_s = 1e-9;
+  control.on_checkpoint = [&](const ImageRGB&, int) { after.push_back(full); };
+  RenderStats stats;
+  const ImageRGB straight = render(settings(4, 2), stats, {}, control);
+  ASSERT_EQ(after.size(), 3u);
+  RenderState lagging = after[2];
+  lagging.light = after[0].light;
+  lagging.light_passes = after[0].light_passes;
+  ASSERT_EQ(lagging.passes, 3);
+  ASSERT_EQ(lagging.light_passes, 1);
+  RenderStats st;
+  EXPECT_TRUE(same_bits(straight, render_from(lagging, settings(4, 1), st)));
+  EXPECT_TRUE(same_state(lagging, full));
+}
+
 TEST(Resume, RefusesAStateItCouldNotHaveLeft) {
   RenderState state = stopped_after(settings(4, 1), kTiles + 2);
   RenderStats st;

@@ -77,6 +77,19 @@ ImageRGB render(const RenderSettings& s, RenderStats& stats, const ProgressCallb
   return render_image(cornell(), tree(), cam, s, stats, p, c);
 }
 
+// Renders `s` into `full` and `image`, keeping the state after each pass but the last (a
+// checkpoint after every pass).
+std::vector<RenderState> states_after_each_pass(const RenderSettings& s, RenderState& full, ImageRGB& image) {
+  std::vector<RenderState> after;
+  RenderControl control;
+  control.state = &full;
+  control.checkpoint_s = 1e-9;
+  control.on_checkpoint = [&](const ImageRGB&, int) { after.push_back(full); };
+  RenderStats stats;
+  image = render(s, stats, {}, control);
+  return after;
+}
+
 ImageRGB render_from(RenderState& state, const RenderSettings& s, RenderStats& stats) {
   RenderControl control;
   control.state = &state;
@@ -188,14 +201,9 @@ TEST(Resume, EveryIntegratorOfTheCommonLoop) {
 // the checkpoints of one render, is accepted and resumed to the uninterrupted image, each
 // pixel adding only the samples it lacks.
 TEST(Resume, PixelsAtAnyCountsBetweenPassesAndSpp) {
-  std::vector<RenderState> after;  // [k]: the state after k passes
   RenderState full;
-  RenderControl control;
-  control.state = &full;
-  control.checkpoint_s = 1e-9;
-  control.on_checkpoint = [&](const ImageRGB&, int) { after.push_back(full); };
-  RenderStats stats;
-  const ImageRGB straight = render(settings(6, 2), stats, {}, control);
+  ImageRGB straight;
+  std::vector<RenderState> after = states_after_each_pass(settings(6, 2), full, straight);  // [k]: after k + 1
   after.insert(after.begin(), RenderState{});
   after.front().reset(24, 20);
   after.push_back(full);
@@ -249,14 +257,9 @@ TEST(Resume, PixelsAtAnyCountsBetweenPassesAndSpp) {
 // lag its samples: they do not depend on the samples, so resuming traces the missing ones,
 // in order, and ends with the uninterrupted render's image and sums.
 TEST(Resume, LightPassesBehindTheSamplesAreTracedOnResuming) {
-  std::vector<RenderState> after;  // [k - 1]: the state after k passes
   RenderState full;
-  RenderControl control;
-  control.state = &full;
-  control.checkpoint_s = 1e-9;
-  control.on_checkpoint = [&](const ImageRGB&, int) { after.push_back(full); };
-  RenderStats stats;
-  const ImageRGB straight = render(settings(4, 2), stats, {}, control);
+  ImageRGB straight;
+  const std::vector<RenderState> after = states_after_each_pass(settings(4, 2), full, straight);  // [k]: after k + 1
   ASSERT_EQ(after.size(), 3u);
   RenderState lagging = after[2];
   lagging.light = after[0].light;

@@ -2,11 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include <glm/geometric.hpp>
 
 #include "render/coverage.h"
-#include "render/microfacet.h"
 #include "render/path_rules.h"
 #include "render/photon_walk.h"
 #include "render/shading_inputs.h"
@@ -23,7 +23,8 @@ namespace {
 // (0xFFFFFFFF) and the caustic map's (0xFFFFFFFE) by their y.
 constexpr std::uint32_t kLightPathStreamY = 0xFFFFFFFDu;
 
-// Roughness below which a lobe may be delta (alpha = roughness^2 < kSmoothAlpha), with room.
+// Roughness below which a lobe may be delta (alpha = roughness^2 < kSmoothAlpha of
+// render/microfacet.h, roughness < 0.032), with room.
 constexpr float kMaybeSmooth = 0.05f;
 
 // Per image, the least green value a lookup of it can give (roughness is in G): texels are
@@ -146,7 +147,7 @@ double LightTracer::light_density(std::uint32_t prim, std::uint32_t instance) co
   // two-sided one with probability 1/2, directions by cos / pi.
   const double side = m.double_sided ? 0.5 : 1.0;
   return static_cast<double>(paths_per_pass_) * emission_.pick_probability(0) * double(pdf_area) * side /
-         3.14159265358979323846;
+         std::numbers::pi;
 }
 
 void LightTracer::trace_path(std::uint64_t index, std::vector<Splat>& out, std::uint64_t& rays) const {

@@ -202,6 +202,13 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
     }
   }
 
+  // A resumed state whose samples were all there but not its light passes (a distributed
+  // render stopped as it ended) gets the rest.
+  while (sampler.traces_light() && !halted.load() && state.passes >= settings.spp &&
+         state.light_passes < settings.spp && !must_stop()) {
+    if (state.pending.empty()) light_rays += trace_pending_light(sampler, state);
+    state.commit_pending();
+  }
   stats.stopped = halted.load();
   const auto [lo, hi] = std::minmax_element(count.begin(), count.end());
   stats.min_spp = *lo;

@@ -269,6 +269,12 @@ TEST(Resume, LightPassesBehindTheSamplesAreTracedOnResuming) {
   RenderStats st;
   EXPECT_TRUE(same_bits(straight, render_from(lagging, settings(4, 1), st)));
   EXPECT_TRUE(same_state(lagging, full));
+  // Also once every sample is there.
+  RenderState done = full;
+  done.light = after[0].light;
+  done.light_passes = after[0].light_passes;
+  EXPECT_TRUE(same_bits(straight, render_from(done, settings(4, 1), st)));
+  EXPECT_TRUE(same_state(done, full));
 }
 
 TEST(Resume, RefusesAStateItCouldNotHaveLeft) {

@@ -198,18 +198,14 @@ ImageRGB render_distributed(Channel& channel, const SampleRenderer& renderer, co
   auto interrupted = [&] { return control.stop && control.stop->load(std::memory_order_relaxed) != 0; };
   // The light tracer's passes (render/light_tracer.h) are rank 0's, one per turn of the
   // loop while the workers sample; their sums do not depend on who traced them.
-  std::uint64_t light_rays = 0;
-  auto trace_light_pass = [&] {
-    if (state.pending.empty()) light_rays += trace_pending_light(renderer, state);
-    state.commit_pending();
-  };
+  const auto never = [] { return false; };
   // Light pass 0 before any sample (check_light_state tells a state by it).
-  if (renderer.traces_light() && state.light_passes == 0 && settings.spp > 0) trace_light_pass();
+  std::uint64_t light_rays = complete_light_passes(renderer, state, std::min(1, settings.spp), never);
   while (!queue.complete()) {
     if (interrupted() || (timed && Clock::now() >= deadline) || !failure.empty()) break;
     const bool any = poll();
     for (int rank = 0; rank < ranks; ++rank) hand_out(rank);
-    if (renderer.traces_light() && state.light_passes < settings.spp) trace_light_pass();
+    light_rays += complete_light_passes(renderer, state, std::min(state.light_passes + 1, settings.spp), never);
     if (control.checkpoint_s > 0.0 && control.on_checkpoint && !queue.complete() &&
         std::chrono::duration<double>(Clock::now() - last_checkpoint).count() >= control.checkpoint_s) {
       queue.settle_passes();
@@ -256,7 +252,7 @@ ImageRGB render_distributed(Channel& channel, const SampleRenderer& renderer, co
   queue.settle_passes();
   // All the light passes once the samples are all there (a stopped render's resume traces
   // any it lacks).
-  while (renderer.traces_light() && queue.complete() && state.light_passes < settings.spp) trace_light_pass();
+  if (queue.complete()) light_rays += complete_light_passes(renderer, state, settings.spp, never);
   stats.passes = state.passes;
   const auto [lo, hi] = std::minmax_element(state.count.begin(), state.count.end());
   stats.min_spp = *lo;

@@ -66,9 +66,6 @@ class PinholeCamera {
   // plane, as generate() makes it. Not for an orthographic camera (its rays are one
   // direction: no point connects to it).
   CameraPoint connect(const glm::vec3& p, glm::vec2 lens_u) const;
-  // CameraPoint::importance of p seen from the lens point `lens`, whether or not p is in the
-  // image (0 behind the lens plane).
-  float importance(const glm::vec3& lens, const glm::vec3& p) const;
   // A pixel's area on the image plane at distance 1 (2|x| by 2|y| over the pixels).
   float pixel_area() const {
     return 4.0f * glm::length(x_axis_) * glm::length(y_axis_) /
@@ -102,6 +99,9 @@ class PinholeCamera {
   int height() const { return height_; }
 
  private:
+  // CameraPoint::importance of p seen from the lens point `lens` (p in front of the lens).
+  float importance(const glm::vec3& lens, const glm::vec3& p) const;
+
   glm::vec3 origin_{0.0f};
   glm::vec3 forward_{0.0f, 0.0f, -1.0f};  // f: unit optical axis
   glm::vec3 x_axis_{1.0f, 0.0f, 0.0f};    // x: right, length tan(hfov/2)

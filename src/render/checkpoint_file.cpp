@@ -20,25 +20,28 @@ constexpr std::array<const char*, 3> kRgb = {"R", "G", "B"};
 constexpr std::array<std::string_view, 6> kReserved = {"resume",     "passes",     "digest",
                                                        "lightPasses", "lightPaths", "lightPending"};
 
-std::string hi_name(int c) { return std::string(kPrefix) + "sumHi." + kRgb[static_cast<std::size_t>(c)]; }
-std::string lo_name(int c) { return std::string(kPrefix) + "sumLo." + kRgb[static_cast<std::size_t>(c)]; }
-std::string light_hi_name(int c) { return std::string(kPrefix) + "lightHi." + kRgb[static_cast<std::size_t>(c)]; }
-std::string light_lo_name(int c) { return std::string(kPrefix) + "lightLo." + kRgb[static_cast<std::size_t>(c)]; }
-std::string pending_hi_name(int c) { return std::string(kPrefix) + "pendingHi." + kRgb[static_cast<std::size_t>(c)]; }
-std::string pending_lo_name(int c) { return std::string(kPrefix) + "pendingLo." + kRgb[static_cast<std::size_t>(c)]; }
+// The channels of per-pixel double sums `what` ("sum", "light", "pending"): channel c's high
+// and low 32 bits, lancer.<what>Hi.<c> and lancer.<what>Lo.<c>.
+std::string hi_name(const char* what, int c) {
+  return std::string(kPrefix) + what + "Hi." + kRgb[static_cast<std::size_t>(c)];
+}
+std::string lo_name(const char* what, int c) {
+  return std::string(kPrefix) + what + "Lo." + kRgb[static_cast<std::size_t>(c)];
+}
 
-// Each double of `sums`' channel c as its high and low 32 bits, exact.
-void add_double_channels(const std::vector<glm::dvec3>& sums, const std::string& hi_channel,
-                         const std::string& lo_channel, int c, ExrExtras& extras) {
-  std::vector<std::uint32_t> hi(sums.size()), lo(sums.size());
-  for (std::size_t p = 0; p < sums.size(); ++p) {
-    std::uint64_t bits;
-    std::memcpy(&bits, &sums[p][c], sizeof bits);
-    hi[p] = static_cast<std::uint32_t>(bits >> 32);
-    lo[p] = static_cast<std::uint32_t>(bits);
+// Each double of `sums` as its high and low 32 bits, exact.
+void add_double_channels(const std::vector<glm::dvec3>& sums, const char* what, ExrExtras& extras) {
+  for (int c = 0; c < 3; ++c) {
+    std::vector<std::uint32_t> hi(sums.size()), lo(sums.size());
+    for (std::size_t p = 0; p < sums.size(); ++p) {
+      std::uint64_t bits;
+      std::memcpy(&bits, &sums[p][c], sizeof bits);
+      hi[p] = static_cast<std::uint32_t>(bits >> 32);
+      lo[p] = static_cast<std::uint32_t>(bits);
+    }
+    extras.uint_channels.emplace_back(hi_name(what, c), std::move(hi));
+    extras.uint_channels.emplace_back(lo_name(what, c), std::move(lo));
   }
-  extras.uint_channels.emplace_back(hi_channel, std::move(hi));
-  extras.uint_channels.emplace_back(lo_channel, std::move(lo));
 }
 
 // Whether the state holds the light tracer's sums (the file then has their channels).
@@ -84,14 +87,12 @@ void write_checkpoint(const RenderState& state, const CheckpointFacts& facts, co
        state.light_paths > static_cast<std::uint64_t>(std::numeric_limits<int>::max())))
     throw std::invalid_argument("write_checkpoint: light sums that are not one per pixel, or paths out of range");
   ExrExtras extras;
-  for (int c = 0; c < 3; ++c) add_double_channels(state.sum, hi_name(c), lo_name(c), c, extras);
+  add_double_channels(state.sum, "sum", extras);
   extras.uint_channels.emplace_back(count_name(), state.count);
   extras.ints = {{std::string(kPrefix) + "resume", kCheckpointFormat}, {std::string(kPrefix) + "passes", state.passes}};
   if (has_light(state)) {
-    if (state.light_passes > 0)
-      for (int c = 0; c < 3; ++c) add_double_channels(state.light, light_hi_name(c), light_lo_name(c), c, extras);
-    if (!state.pending.empty())
-      for (int c = 0; c < 3; ++c) add_double_channels(state.pending, pending_hi_name(c), pending_lo_name(c), c, extras);
+    if (state.light_passes > 0) add_double_channels(state.light, "light", extras);
+    if (!state.pending.empty()) add_double_channels(state.pending, "pending", extras);
     extras.ints.emplace_back(std::string(kPrefix) + "lightPasses", state.light_passes);
     extras.ints.emplace_back(std::string(kPrefix) + "lightPaths", static_cast<int>(state.light_paths));
     extras.ints.emplace_back(std::string(kPrefix) + "lightPending", state.pending.empty() ? 0 : 1);
@@ -131,11 +132,11 @@ Checkpoint read_checkpoint(const std::filesystem::path& file) {
       if (n == name) return values;
     throw damaged("no " + name + " channel");
   };
-  auto read_doubles = [&](std::vector<glm::dvec3>& sums, auto hi_of, auto lo_of) {
+  auto read_doubles = [&](std::vector<glm::dvec3>& sums, const char* what) {
     sums.assign(st.pixels(), glm::dvec3(0.0));
     for (int c = 0; c < 3; ++c) {
-      const std::vector<std::uint32_t>& hi = channel(hi_of(c));
-      const std::vector<std::uint32_t>& lo = channel(lo_of(c));
+      const std::vector<std::uint32_t>& hi = channel(hi_name(what, c));
+      const std::vector<std::uint32_t>& lo = channel(lo_name(what, c));
       for (std::size_t p = 0; p < st.pixels(); ++p) {
         const std::uint64_t bits = std::uint64_t{hi[p]} << 32 | lo[p];
         std::memcpy(&sums[p][c], &bits, sizeof bits);
@@ -143,7 +144,7 @@ Checkpoint read_checkpoint(const std::filesystem::path& file) {
     }
   };
   st.count = channel(count_name());
-  read_doubles(st.sum, hi_name, lo_name);
+  read_doubles(st.sum, "sum");
   const int* light_passes = int_of("lightPasses");
   const int* light_paths = int_of("lightPaths");
   const int* light_pending = int_of("lightPending");
@@ -155,8 +156,8 @@ Checkpoint read_checkpoint(const std::filesystem::path& file) {
       throw damaged("light passes, paths or pending out of range");
     st.light_passes = *light_passes;
     st.light_paths = static_cast<std::uint64_t>(*light_paths);
-    if (st.light_passes > 0) read_doubles(st.light, light_hi_name, light_lo_name);
-    if (*light_pending == 1) read_doubles(st.pending, pending_hi_name, pending_lo_name);
+    if (st.light_passes > 0) read_doubles(st.light, "light");
+    if (*light_pending == 1) read_doubles(st.pending, "pending");
   }
   // Light sums the attributes do not account for: written by something else.
   for (const auto& [name, values] : extras.uint_channels) {

@@ -186,9 +186,8 @@ void LightTracer::trace_path(std::uint64_t index, std::vector<Splat>& out, std::
         if (!si.unlit && si.alpha > 0.0f && cos_in > 0.0f && cos_out > 0.0f) {
           const SurfaceScattering sc(si, wo);
           const BsdfEval e = sc.evaluate(v.wo);
-          // The camera side's density: p_cam(x1) = the importance times the cosine at x1.
-          const double camera = double(cos_out) * double(cam.importance) * double(e.pdf) / double(cos_in);
-          const float share = weight(static_cast<double>(paths_per_pass_) * v.start_density, camera);
+          const float share = weight(static_cast<double>(paths_per_pass_) * v.start_density,
+                                     camera_density(cam.lens, si.p, si.ng, v.wo, e.pdf));
           const glm::vec3 value = v.power * e.f * (share * cos_out * cam.importance / cos_in);
           if (!path_rules::is_black(value) && path_rules::is_finite(value)) {
             // Seen as the camera sees it: from the lens towards x1 (lifted off its surface

@@ -102,8 +102,19 @@ void check_light_state(RenderState& state, std::uint64_t paths) {
 }
 
 std::uint64_t trace_pending_light(const SampleRenderer& sampler, RenderState& state) {
+  if (!state.pending.empty()) return 0;
   state.pending.assign(state.pixels(), glm::dvec3(0.0));
   return sampler.trace_light_pass(state.light_passes, state.pending);
+}
+
+std::uint64_t complete_light_passes(const SampleRenderer& sampler, RenderState& state, int passes,
+                                    const std::function<bool()>& stop) {
+  std::uint64_t rays = 0;
+  while (sampler.traces_light() && state.light_passes < passes && !stop()) {
+    rays += trace_pending_light(sampler, state);
+    state.commit_pending();
+  }
+  return rays;
 }
 
 ImageRGB render_image(const Scene& scene, const Accelerator& accel, const PinholeCamera& camera,
@@ -182,15 +193,10 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
   for (s = state.passes; s < settings.spp && !must_stop(); ++s) {
     // The light tracer's pass s before the samples of pass s, pending until the pass is done
     // (and first those a resumed distributed render's state had not traced yet).
-    if (sampler.traces_light()) {
-      while (state.light_passes < s && !must_stop()) {
-        if (state.pending.empty()) light_rays += trace_pending_light(sampler, state);
-        state.commit_pending();
-      }
-      if (state.light_passes == s && state.pending.empty() && !must_stop())
-        light_rays += trace_pending_light(sampler, state);
-      if (halted.load()) break;
-    }
+    light_rays += complete_light_passes(sampler, state, s, must_stop);
+    if (sampler.traces_light() && state.light_passes == s && !must_stop())
+      light_rays += trace_pending_light(sampler, state);
+    if (halted.load()) break;
     runner.run(tiles, render_tile, progress, tiles.size() * static_cast<std::size_t>(settings.spp - resumed_pass));
     if (halted.load()) break;
     if (state.light_passes == s) state.commit_pending();
@@ -204,11 +210,8 @@ ImageRGB render_image(const Scene& scene, const Accelerator& accel, const Pinhol
 
   // A resumed state whose samples were all there but not its light passes (a distributed
   // render stopped as it ended) gets the rest.
-  while (sampler.traces_light() && !halted.load() && state.passes >= settings.spp &&
-         state.light_passes < settings.spp && !must_stop()) {
-    if (state.pending.empty()) light_rays += trace_pending_light(sampler, state);
-    state.commit_pending();
-  }
+  if (!halted.load() && state.passes >= settings.spp)
+    light_rays += complete_light_passes(sampler, state, settings.spp, must_stop);
   stats.stopped = halted.load();
   const auto [lo, hi] = std::minmax_element(count.begin(), count.end());
   stats.min_spp = *lo;

@@ -54,8 +54,14 @@ void check_render_state(const RenderState& state, const RenderSettings& settings
 // state: ...") when the state holds light passes this render cannot continue.
 void check_light_state(RenderState& state, std::uint64_t paths);
 
-// Traces the light pass state.light_passes into state.pending (zeroed first); returns its rays.
+// Traces the light pass state.light_passes into state.pending (zeroed first) unless it holds
+// that pass already; returns its rays.
 std::uint64_t trace_pending_light(const SampleRenderer& sampler, RenderState& state);
+
+// Traces and commits light passes until state.light_passes reaches `passes` (none without
+// light tracing) or stop() says so; returns their rays.
+std::uint64_t complete_light_passes(const SampleRenderer& sampler, RenderState& state, int passes,
+                                    const std::function<bool()>& stop);
 
 ImageRGB render_image(const Scene& scene, const Accelerator& accel, const PinholeCamera& camera,
                       const RenderSettings& settings, RenderStats& stats, const ProgressCallback& progress = {},

@@ -160,8 +160,6 @@ std::uint64_t SampleRenderer::light_paths_per_pass() const {
 
 std::uint64_t SampleRenderer::trace_light_pass(int pass, std::vector<glm::dvec3>& sum) const {
   if (!impl_->light_tracer) return 0;
-  sum.resize(static_cast<std::size_t>(impl_->settings.width) * static_cast<std::size_t>(impl_->settings.height),
-             glm::dvec3(0.0));
   return impl_->light_tracer->trace_pass(pass, impl_->tile_runner, sum);
 }
 

@@ -58,7 +58,7 @@ class SampleRenderer {
   // pass also needs trace_light_pass, whose sums RenderState keeps apart from the pixels'.
   bool traces_light() const;
   std::uint64_t light_paths_per_pass() const;  // 0 without light tracing
-  // Adds light pass `pass`'s splats into sum (resized to one per pixel), on the runner given
+  // Adds light pass `pass`'s splats into sum (one per pixel, row-major), on the runner given
   // at construction; returns its rays. Not from two threads at once.
   std::uint64_t trace_light_pass(int pass, std::vector<glm::dvec3>& sum) const;
 

@@ -64,7 +64,8 @@ bool same_bits(const ImageRGB& a, const ImageRGB& b) {
 }
 
 bool same_doubles(const std::vector<glm::dvec3>& a, const std::vector<glm::dvec3>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::dvec3)) == 0;
+  // An empty vector's data() may be null, which memcmp must not be given.
+  return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(glm::dvec3)) == 0);
 }
 
 // The samples' sums and counts, and the light tracer's sums (render/light_tracer.h).

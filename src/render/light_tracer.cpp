@@ -14,6 +14,7 @@
 #include "render/surface.h"
 #include "render/surface_bsdf.h"
 #include "render/tile_scheduler.h"
+#include "simd/splitmix64.h"
 
 namespace lancer {
 
@@ -29,16 +30,26 @@ constexpr float kMaybeSmooth = 0.05f;
 
 // Per image, the least green value a lookup of it can give (roughness is in G): texels are
 // 8-bit, and filtering only blends them, so no lookup goes below the smallest. An image of
-// one or two channels is grey, its G the grey. Each image is read once.
+// one or two channels is grey, its G the grey. Only the images a roughness texture reads are
+// scanned (1 for the others, which least_green never asks for), each once.
 std::vector<float> least_greens(const Scene& scene) {
   std::vector<float> least(scene.images.size(), 1.0f);
-  for (std::size_t k = 0; k < scene.images.size(); ++k) {
-    const Image& im = scene.images[k];
-    if (im.channels <= 0 || im.pixels.empty()) continue;
+  std::vector<bool> scanned(scene.images.size(), false);
+  auto scan = [&](const TextureRef& ref) {
+    if (!ref.present() || static_cast<std::size_t>(ref.texture) >= scene.textures.size()) return;
+    const int k = scene.textures[static_cast<std::size_t>(ref.texture)].image;
+    if (k < 0 || static_cast<std::size_t>(k) >= scene.images.size() || scanned[static_cast<std::size_t>(k)]) return;
+    scanned[static_cast<std::size_t>(k)] = true;
+    const Image& im = scene.images[static_cast<std::size_t>(k)];
+    if (im.channels <= 0 || im.pixels.empty()) return;
     const std::size_t stride = static_cast<std::size_t>(im.channels), green = im.channels >= 3 ? 1 : 0;
     std::uint8_t g = 255;
     for (std::size_t i = green; i < im.pixels.size(); i += stride) g = std::min(g, im.pixels[i]);
-    least[k] = static_cast<float>(g) / 255.0f;
+    least[static_cast<std::size_t>(k)] = static_cast<float>(g) / 255.0f;
+  };
+  for (const Material& m : scene.materials) {
+    scan(m.metallic_roughness_texture);
+    scan(m.clearcoat_roughness_texture);
   }
   return least;
 }
@@ -82,12 +93,7 @@ bool breaks_reciprocity(const Material& m) {
 // The lens point's two uniform values for light path `index` at its `bounces`-th surface:
 // a hash (splitmix64, Steele et al. 2014), independent of the path's Sobol' values.
 glm::vec2 lens_values(std::uint64_t seed, std::uint64_t index, int bounces) {
-  auto mix = [](std::uint64_t z) {
-    z += 0x9E3779B97F4A7C15ull;
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  };
+  auto mix = [](std::uint64_t z) { return splitmix64_mix(z + 0x9E3779B97F4A7C15ull); };
   const std::uint64_t h = mix(mix(seed ^ 0x4C69676874547263ull) ^ index) + static_cast<std::uint64_t>(bounces);
   const std::uint64_t bits = mix(h);
   // 24 bits each: floats in [0, 1).

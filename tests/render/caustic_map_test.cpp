@@ -29,15 +29,6 @@
 namespace lancer {
 namespace {
 
-RenderSettings photon_settings(int size, int spp) {
-  RenderSettings s;
-  s.width = s.height = size;
-  s.spp = spp;
-  s.integrator = IntegratorKind::Photon;
-  s.threads = 2;
-  return s;
-}
-
 // ---- A caustic in closed form -------------------------------------------------------------
 
 TEST(CausticMap, CausticThroughAGlassPaneHasItsClosedForm) {
@@ -54,7 +45,7 @@ TEST(CausticMap, CausticThroughAGlassPaneHasItsClosedForm) {
     }
   expected /= kSize * kSize;
   for (int k : {5, 50}) {
-    RenderSettings s = photon_settings(kSize, 16);
+    RenderSettings s = test::caustic_settings(IntegratorKind::Photon, kSize, 16);
     s.photons = 400000;
     s.caustic_k = k;
     RenderStats stats;
@@ -71,7 +62,7 @@ TEST(CausticMap, CausticThroughAGlassPaneHasItsClosedForm) {
     EXPECT_NEAR(got, expected, (k < 50 ? 0.08 : 0.025) * expected) << "k = " << k;
     for (std::size_t i = 0; i < image.rgb.size(); i += 3) ASSERT_FLOAT_EQ(image.rgb[i], image.rgb[i + 2]);
   }
-  RenderSettings s = photon_settings(kSize, 16);
+  RenderSettings s = test::caustic_settings(IntegratorKind::Photon, kSize, 16);
   s.integrator = IntegratorKind::Path;
   RenderStats stats;
   const ImageRGB path = render_image(c.scene, accel, camera, s, stats);
@@ -96,8 +87,7 @@ TEST(CausticMap, AgreesWithThePathTracerWhereItFindsTheCaustics) {
   const PinholeCamera camera = test::GlassAndMirror::camera(kSize);
   for (int max_depth : {3, 8}) {
     auto render = [&](IntegratorKind kind, std::uint64_t seed) {
-      RenderSettings s = photon_settings(kSize, kind == IntegratorKind::Path ? kPathSpp : kPhotonSpp);
-      s.integrator = kind;
+      RenderSettings s = test::caustic_settings(kind, kSize, kind == IntegratorKind::Path ? kPathSpp : kPhotonSpp);
       s.seed = seed;
       s.max_depth = max_depth;
       if (kind == IntegratorKind::Photon) {
@@ -135,7 +125,7 @@ TEST(CausticMap, WithoutDeltaSurfacesTheImageIsThePathTracers) {
   }
   constexpr int kSize = 32;
   const PinholeCamera camera = PinholeCamera::from_desc(scene.cameras.at(0), kSize, kSize);
-  RenderSettings s = photon_settings(kSize, 8);
+  RenderSettings s = test::caustic_settings(IntegratorKind::Photon, kSize, 8);
   RenderStats stats;
   const ImageRGB photon = render_image(scene, accel, camera, s, stats);
   s.integrator = IntegratorKind::Path;
@@ -150,11 +140,11 @@ TEST(CausticMap, BitIdenticalAcrossThreadsTilesAndModes) {
   const KdTree accel(scene.triangles);
   constexpr int kSize = 24;
   const PinholeCamera camera = PinholeCamera::from_desc(scene.cameras.at(0), kSize, kSize);
-  RenderSettings base = photon_settings(kSize, 2);
+  RenderSettings base = test::caustic_settings(IntegratorKind::Photon, kSize, 2);
   base.photons = 30000;  // a partial last chunk of photons too
   const ImageRGB one = test::expect_bit_identical_across_threads_tiles_and_modes(scene, accel, camera, base);
   // And the map is not empty here: the image differs from the path tracer's.
-  RenderSettings s = photon_settings(kSize, 2);
+  RenderSettings s = test::caustic_settings(IntegratorKind::Photon, kSize, 2);
   s.integrator = IntegratorKind::Path;
   s.threads = 1;
   RenderStats stats;

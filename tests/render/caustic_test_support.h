@@ -97,6 +97,16 @@ struct GlassAndMirror {
   }
 };
 
+// Settings of a square render of `size` pixels at `spp` with `kind`, on two threads.
+inline RenderSettings caustic_settings(IntegratorKind kind, int size, int spp) {
+  RenderSettings s;
+  s.width = s.height = size;
+  s.spp = spp;
+  s.integrator = kind;
+  s.threads = 2;
+  return s;
+}
+
 // Block means of an image: kBlocks x kBlocks blocks, channel by channel.
 inline constexpr int kBlocks = 4;
 inline std::vector<double> block_means(const ImageRGB& image) {

@@ -32,14 +32,6 @@
 namespace lancer {
 namespace {
 
-RenderSettings path_settings(int size, int spp) {
-  RenderSettings s;
-  s.width = s.height = size;
-  s.spp = spp;
-  s.threads = 2;
-  return s;
-}
-
 // Unbiased both ways, so every 4x4 block mean agrees within 5 combined standard errors over
 // 6 seeds (48 comparisons per depth; the seeds are fixed, so the outcome is too). Counting
 // the caustics twice (the path tracer not leaving them out) puts the floor under the pane
@@ -52,11 +44,12 @@ TEST(LightTracer, AgreesWithThePathTracerAlone) {
   const PinholeCamera camera = test::GlassAndMirror::camera(kSize);
   {
     const AreaLights lights(g.scene);
-    ASSERT_TRUE(LightTracer::applies(g.scene, camera, path_settings(kSize, kSpp), lights));
+    ASSERT_TRUE(
+        LightTracer::applies(g.scene, camera, test::caustic_settings(IntegratorKind::Path, kSize, kSpp), lights));
   }
   for (int max_depth : {2, 3, 8}) {
     auto render = [&](bool light_traced, std::uint64_t seed) {
-      RenderSettings s = path_settings(kSize, kSpp);
+      RenderSettings s = test::caustic_settings(IntegratorKind::Path, kSize, kSpp);
       s.seed = seed;
       s.max_depth = max_depth;
       s.light_traced_caustics = light_traced;
@@ -92,7 +85,7 @@ TEST(LightTracer, CutsPathsAtTheDepthLimitAsThePathTracerDoes) {
   const PinholeCamera camera = PinholeCamera::look_at(glm::vec3(0.0f, 0.0f, 0.3f), glm::vec3(0.0f),
                                                       glm::vec3(0.0f, 1.0f, 0.0f), 1.0f, kSize, kSize);
   auto render = [&](bool light_traced, int max_depth, std::uint64_t seed) {
-    RenderSettings s = path_settings(kSize, 128);
+    RenderSettings s = test::caustic_settings(IntegratorKind::Path, kSize, 128);
     s.seed = seed;
     s.max_depth = max_depth;
     s.light_traced_caustics = light_traced;
@@ -138,10 +131,11 @@ TEST(LightTracer, OpaqueSingleSidedSurfacesAsBothSidesSeeThem) {
     const PinholeCamera camera = test::GlassAndMirror::camera(kSize);
     {
       const AreaLights lights(g.scene);
-      ASSERT_TRUE(LightTracer::applies(g.scene, camera, path_settings(kSize, 1), lights)) << veil.what;
+      ASSERT_TRUE(LightTracer::applies(g.scene, camera, test::caustic_settings(IntegratorKind::Path, kSize, 1), lights))
+          << veil.what;
     }
     auto render = [&](bool light_traced, std::uint64_t seed) {
-      RenderSettings s = path_settings(kSize, 256);
+      RenderSettings s = test::caustic_settings(IntegratorKind::Path, kSize, 256);
       s.seed = seed;
       s.light_traced_caustics = light_traced;
       RenderStats stats;
@@ -160,7 +154,7 @@ TEST(LightTracer, OpaqueSingleSidedSurfacesAsBothSidesSeeThem) {
 // light path leaving an emitter inside it does not know it is in.
 TEST(LightTracer, LeavesScenesWithoutReciprocityToTheCameraPaths) {
   const PinholeCamera camera = test::GlassAndMirror::camera(16);
-  const RenderSettings s = path_settings(16, 1);
+  const RenderSettings s = test::caustic_settings(IntegratorKind::Path, 16, 1);
   auto applies_with = [&](const Material& m) {
     test::GlassAndMirror g;
     test::add_square_z(g.scene, 0.0f, 0.0f, 0.8f, 0.2f, true, test::add_material(g.scene, m));
@@ -199,7 +193,7 @@ TEST(LightTracer, RefusesToContinueAStateRenderedWithoutIt) {
   RenderState state;
   RenderControl control;
   control.state = &state;
-  RenderSettings s = path_settings(16, 2);
+  RenderSettings s = test::caustic_settings(IntegratorKind::Path, 16, 2);
   s.light_traced_caustics = false;
   RenderStats stats;
   render_image(scene, accel, camera, s, stats, {}, control);
@@ -223,7 +217,7 @@ TEST(LightTracer, AppliesOnlyWhereItCan) {
   const Scene plain = load_scene(test::scenes_dir() / "cornell-box.gltf");
   const AreaLights spheres_lights(spheres), plain_lights(plain);
   const PinholeCamera camera = PinholeCamera::from_desc(spheres.cameras.at(0), 16, 16);
-  const RenderSettings s = path_settings(16, 1);
+  const RenderSettings s = test::caustic_settings(IntegratorKind::Path, 16, 1);
   EXPECT_TRUE(LightTracer::applies(spheres, camera, s, spheres_lights));
   EXPECT_FALSE(LightTracer::applies(plain, camera, s, plain_lights)) << "no delta material";
   // Textured roughness counts by its smallest texel: the still life's metals are rough
@@ -276,7 +270,7 @@ TEST(LightTracer, SplatsOnlyAfterADeltaBounceWithinTheDepth) {
     test::add_square_z(scene, 0.0f, 0.0f, 1.0f, 0.3f, false, light);
     const KdTree accel(scene.triangles);
     const AreaLights lights(scene);
-    RenderSettings s = path_settings(16, 1);
+    RenderSettings s = test::caustic_settings(IntegratorKind::Path, 16, 1);
     s.max_depth = max_depth;
     const PinholeCamera camera = PinholeCamera::look_at(glm::vec3(0.0f, 0.0f, 0.3f), glm::vec3(0.0f),
                                                         glm::vec3(0.0f, 1.0f, 0.0f), 1.0f, 16, 16);
@@ -306,7 +300,7 @@ TEST(LightTracer, BitIdenticalAcrossThreadsTilesAndModes) {
   const KdTree accel(scene.triangles);
   constexpr int kSize = 136;
   const PinholeCamera camera = PinholeCamera::from_desc(scene.cameras.at(0), kSize, kSize);
-  const RenderSettings base = path_settings(kSize, 2);
+  const RenderSettings base = test::caustic_settings(IntegratorKind::Path, kSize, 2);
   ASSERT_GT(std::uint64_t(kSize) * kSize / kPixelsPerLightPath, std::uint64_t(kPhotonChunk));
   const ImageRGB one = test::expect_bit_identical_across_threads_tiles_and_modes(scene, accel, camera, base);
   RenderSettings alone = base;

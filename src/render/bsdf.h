@@ -21,8 +21,8 @@
 // Simplifications (documented, not in the extensions): the layer lobes only reflect into the
 // hemisphere of wo on both the shading normal's and their own normal's side (a coat whose
 // normal leans away from the shading normal loses the directions between the two planes);
-// the whole layered BSDF is then folded by the integrator (shading_inputs.h) with the base's
-// shading normal. A material without sheen and clearcoat is exactly the base: every call is
+// the integrator then handles the whole layered BSDF's wedge (shading_inputs.h) with the
+// base's shading normal. A material without sheen and clearcoat is exactly the base: every call is
 // forwarded to it.
 #pragma once
 

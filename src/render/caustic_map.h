@@ -12,7 +12,7 @@
 // delta lobe: the stored photon stands for the non-delta lobes, the path for the delta one.
 // Each photon carries power / N, N the photons shot.
 //
-// Density estimate at x with normal n (Jensen's eq. 6 with the folded BSDF):
+// Density estimate at x with normal n (Jensen's eq. 6 with the BSDF as the integrator sees it):
 //   L(x, wo) = sum over the k - 1 nearest photons of f(wo, wi_p) Phi_p / (pi r_k^2),
 // r_k the distance of the k-th nearest: it only sets the disc, since counting it too makes
 // the estimate k / (k - 1) too high for a uniform density (the expected value of
@@ -101,7 +101,7 @@ class CausticMap {
 
   // The caustic radiance leaving x (geometric normal ng on the viewer's side) towards the
   // viewer, from photons that bounced at most `most_bounces` times. f_cos(wi) gives the
-  // BSDF value times |wi.ns| (BsdfEval::f), folded as the caller's BSDF is.
+  // BSDF value times |wi.n| (BsdfEval::f), the wedge handled as the caller's BSDF does.
   template <class FCos>
   glm::vec3 estimate(const glm::vec3& x, const glm::vec3& ng, int most_bounces, FCos&& f_cos, Scratch& scratch) const;
 

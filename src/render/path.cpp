@@ -306,7 +306,8 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
   if (path.bounces >= max_depth_) return false;
   const std::uint32_t leaf = leave();
 
-  // The BSDF, folded where the shading and geometric normals disagree (shading_inputs.h).
+  // The BSDF, with the wedge between the shading and geometric tangent planes handled as
+  // shading_inputs.h says.
   const SurfaceScattering sc(si, -dir);
   auto evaluate = [&](const glm::vec3& wi) { return sc.evaluate(wi); };
   auto queue_shadow = [&](const ShadowAim& aim, const glm::vec3& contribution) {
@@ -326,7 +327,7 @@ bool PathIntegrator::bounce(Path& path, int index, const Ray& ray, const Hit& hi
   }
 
   // Continue the path by sampling the BSDF (the split value only where it is read); MIS
-  // needs the folded density of the direction (SurfaceScattering::sample).
+  // needs the density of the direction (SurfaceScattering::sample).
   const float u_split = sc.bsdf.reads_split() ? sampler.get1(dims + kSplitDimension) : 0.0f;
   const std::optional<BsdfSample> bs = sc.sample(u_split, sampler.get2(dims + kBsdfDimensions));
   if (!bs) return false;

@@ -115,7 +115,7 @@ inline float power_heuristic(float a, float b) {
 // emit(aim, contribution) with contribution = beta f L / pdf times the MIS weight against the
 // BSDF sample when `mis`, else in full (where the BSDF is not sampled for light); the caller
 // traces the shadow ray now (SPPM) or queues it (the path tracer's wavefront).
-// evaluate(wi) -> BsdfEval: the folded BSDF at p.
+// evaluate(wi) -> BsdfEval: the BSDF at p, the wedge handled as shading_inputs.h says.
 template <class Evaluate, class Emit>
 void next_event_estimation(const Scene& scene, const AreaLights& area_lights, const Environment* environment,
                            int light_samples, const glm::vec3& p, const SobolSampler& sampler, std::uint32_t dims,

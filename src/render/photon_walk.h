@@ -124,10 +124,13 @@ void walk_photon(const Scene& scene, const Accelerator& accel, const LightEmissi
     const std::optional<BsdfSample> bs = sc.sample(u_split, sampler.get2(dims + kBsdfDimensions));
     if (!bs || (goes == PhotonGoes::DeltaOnly && !bs->delta)) return;
     // Photons carry flux, so they scatter by the adjoint of the kernel the camera side gathers
-    // with: K(wo, wi) = the folded f |wi.ns| with the photon's way back as wi, and the flux
-    // through the true surface needs |b.ng| / |a.ng|, a = wo here, b the new direction. K is
-    // evaluated rather than assumed symmetric: the folding mirrors only wi, and a rough
-    // refraction's BTDF differs from its transpose by eta^2 (bsdf_base.h, "importance form").
+    // with: K(wo, wi) = f |wi.n| as the camera sees the surface from the new direction b,
+    // with the photon's way back as wi, and the flux through the true surface needs
+    // |b.ng| / |a.ng|, a = wo here. K is evaluated rather than assumed symmetric: a bent
+    // normal depends on the viewer (shading_inputs.h), and a rough refraction's BTDF differs
+    // from its transpose by eta^2 (bsdf_base.h, "importance form"). (b is drawn around the
+    // normal bent for wo, so where normals bend, the few b below that normal's plane whose
+    // own bent normal would still reflect toward wo are not drawn: a loss only there.)
     // Delta lobes are symmetric: their weight with the shading-normal correction (Veach's
     // eq. 5.17) is exact, but for the layers' share of a base lobe under a coat or a sheen
     // (Bsdf::Outgoing::base_scale), which the camera side takes at its own direction, b here.
@@ -142,10 +145,7 @@ void walk_photon(const Scene& scene, const Accelerator& accel, const LightEmissi
         layers = sc.out.base_scale > 0.0f ? sc.bsdf.outgoing(b).base_scale / sc.out.base_scale : 0.0f;
       beta *= bs->weight * (layers * std::abs(glm::dot(wo, si.ns)) * std::abs(glm::dot(b, si.ng)) / (a_ng * b_ns));
     } else {
-      const Bsdf::Outgoing back = sc.bsdf.outgoing(b);
-      const glm::vec3 k =
-          sc.leaning ? evaluate_folded<glm::vec3>(si, wo, [&](const glm::vec3& w) { return sc.bsdf.evaluate(back, w).f; })
-                     : sc.bsdf.evaluate(back, wo).f;
+      const glm::vec3 k = sc.evaluate_seen_from(b, wo).f;
       beta *= k * (std::abs(glm::dot(b, si.ng)) / (a_ng * bs->pdf));
     }
     if (is_black(beta) || !is_finite(beta)) return;

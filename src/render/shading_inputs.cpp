@@ -1,5 +1,7 @@
 #include "render/shading_inputs.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 
@@ -179,6 +181,20 @@ ShadingInputs evaluate_shading(const Scene& scene, const Ray& ray, const Hit& hi
     }
   }
   return si;
+}
+
+glm::vec3 bent_shading_normal(const glm::vec3& ng, const glm::vec3& ns, const glm::vec3& wo) {
+  const glm::vec3 image = 2.0f * glm::dot(ns, wo) * ns - wo;
+  const float height = std::min(0.9f * glm::dot(wo, ng), 0.01f);
+  const float image_height = glm::dot(image, ng);
+  if (image_height >= height) return ns;
+  const glm::vec3 along = image - image_height * ng;  // the image's azimuth in the tangent plane
+  const float along_length = glm::length(along);
+  if (!(along_length > 1e-6f)) return ng;
+  const glm::vec3 lifted = (std::sqrt(std::max(0.0f, 1.0f - height * height)) / along_length) * along + height * ng;
+  const glm::vec3 half = wo + lifted;
+  const float half_length = glm::length(half);
+  return half_length > 1e-6f ? half / half_length : ng;
 }
 
 }  // namespace lancer

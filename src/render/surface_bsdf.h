@@ -17,9 +17,9 @@
 
 namespace lancer {
 
-// The layered glTF BSDF of `si` in its shading frame (si.tangent is unit and orthogonal to
-// si.ns already: evaluate_shading), seen from the side the ray came from.
-inline Bsdf surface_bsdf(const ShadingInputs& si) {
+// The layered glTF BSDF of `si` in `frame` (that of si.ns and si.tangent unless its normal is
+// bent: SurfaceScattering), seen from the side the ray came from.
+inline Bsdf surface_bsdf(const ShadingInputs& si, const ShadingFrame& frame) {
   BsdfInputs inputs{si.base_color, si.metallic,       si.roughness,   si.ior,
                     si.specular,   si.specular_color, si.transmission, si.thin_walled};
   inputs.clearcoat = si.clearcoat;
@@ -27,7 +27,11 @@ inline Bsdf surface_bsdf(const ShadingInputs& si) {
   inputs.clearcoat_normal = si.clearcoat_normal;
   inputs.sheen_color = si.sheen_color;
   inputs.sheen_roughness = si.sheen_roughness;
-  return Bsdf(inputs, ShadingFrame::from_orthonormal(si.ns, si.tangent), si.front_face);
+  return Bsdf(inputs, frame, si.front_face);
+}
+// si.tangent is unit and orthogonal to si.ns already (evaluate_shading).
+inline Bsdf surface_bsdf(const ShadingInputs& si) {
+  return surface_bsdf(si, ShadingFrame::from_orthonormal(si.ns, si.tangent));
 }
 
 // A ray leaving the shading point along unit `dir`, its origin pushed off the triangle just
@@ -50,38 +54,47 @@ inline bool volume_absorption(const ShadingInputs& si, glm::vec3& sigma_a) {
   return true;
 }
 
-// The BSDF at a shading point seen from wo, folded where the shading and geometric normals
-// disagree (shading_inputs.h): what a path, a photon and a gather ask of a surface. `si` must
-// outlive it.
+// The BSDF at a shading point seen from wo, with the wedge between the shading and the
+// geometric tangent planes handled as shading_inputs.h describes (delta directions folded,
+// the rest dropped, the normal bent for reflecting non-delta BSDFs): what a path, a photon
+// and a gather ask of a surface. `si` must outlive it.
 struct SurfaceScattering {
   const ShadingInputs& si;
   Bsdf bsdf;
   Bsdf::Outgoing out;
-  bool leaning;  // ns != ng: some directions fold
+  bool leaning;    // ns != ng: the wedge exists
+  bool bendable;   // no delta lobe, no transmission: the normal bends with the viewer
+  glm::vec3 n;     // the BSDF's normal: si.ns, or bent for wo
 
   SurfaceScattering(const ShadingInputs& s, const glm::vec3& wo)
-      : si(s), bsdf(surface_bsdf(s)), out(bsdf.outgoing(wo)), leaning(s.ns != s.ng) {}
-
-  // f |cos(wi, ns)| and the density, folded.
-  BsdfEval evaluate(const glm::vec3& wi) const {
-    if (!leaning) return bsdf.evaluate(out, wi);
-    return evaluate_folded<BsdfEval>(si, wi, [&](const glm::vec3& w) { return bsdf.evaluate(out, w); });
+      : si(s), bsdf(surface_bsdf(s)), leaning(s.ns != s.ng), bendable(false), n(s.ns) {
+    if (leaning && !bsdf.has_delta() && !(s.transmission > 0.0f)) {
+      bendable = true;
+      n = bent_shading_normal(s.ng, s.ns, wo);
+      if (n != s.ns) bsdf = surface_bsdf(s, ShadingFrame::from_normal_tangent(n, s.tangent));
+    }
+    out = bsdf.outgoing(wo);
   }
-  // A sampled direction, folded, with the density multiple importance sampling sees: the
-  // drawn density plus that of the direction's other preimage near a leaning normal (the
-  // mirror has Jacobian 1, so the weight f / pdf stays). nullopt: absorbed, or folded out of
-  // reach.
+
+  // f |cos(wi, n)| and the density; nothing in the wedge.
+  BsdfEval evaluate(const glm::vec3& wi) const {
+    if (leaning && !sides_agree(si.ng, n, wi)) return {};
+    return bsdf.evaluate(out, wi);
+  }
+  // The same for the BSDF seen from `view` instead of wo (a photon's adjoint: the camera
+  // would look from where it goes on).
+  BsdfEval evaluate_seen_from(const glm::vec3& view, const glm::vec3& wi) const {
+    if (bendable) return SurfaceScattering(si, view).evaluate(wi);
+    if (leaning && !sides_agree(si.ng, n, wi)) return {};
+    return bsdf.evaluate(bsdf.outgoing(view), wi);
+  }
+  // A sampled direction: a delta one folded, any other dropped in the wedge (nullopt, as
+  // when absorbed). The density multiple importance sampling sees is the drawn one: dropping
+  // moves no direction, and a delta sample's density is not compared.
   std::optional<BsdfSample> sample(float u_split, glm::vec2 u) const {
     std::optional<BsdfSample> bs = bsdf.sample(out, u_split, u);
-    if (!bs) return bs;
-    const glm::vec3 drawn = bs->wi;
-    if (leaning && !fold_direction(si, bs->wi)) return std::nullopt;
-    if (leaning && !bs->delta) {
-      if (bs->wi != drawn)
-        bs->pdf += bsdf.evaluate(out, bs->wi).pdf;
-      else if (const glm::vec3 m = mirror_through_surface(si, bs->wi); !sides_agree(si, m))
-        bs->pdf += bsdf.evaluate(out, m).pdf;
-    }
+    if (!bs || !leaning) return bs;
+    if (bs->delta ? !fold_direction(si, bs->wi) : !sides_agree(si.ng, n, bs->wi)) return std::nullopt;
     return bs;
   }
 };

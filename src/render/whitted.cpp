@@ -26,6 +26,7 @@ constexpr float kInvPi = 0.31830988618379067f;
 constexpr float kMirrorRoughness = 0.2f;
 
 bool is_mirror(const ShadingInputs& si) { return si.metallic >= 0.5f && si.roughness < kMirrorRoughness; }
+bool has_mirror_coat(const ShadingInputs& si) { return si.clearcoat > 0.0f && si.clearcoat_roughness < kMirrorRoughness; }
 
 // The rays leaving the shading point: origins pushed off its triangle just far enough that
 // a ray cannot hit it again, for each ray's exact direction (ray_offset.h).
@@ -43,8 +44,8 @@ glm::vec3 coat_normal(const ShadingInputs& si) {
 
 // What a lit point sends toward the viewer per unit radiance arriving from wi, f * cos(wi):
 // the Lambertian base with weight `diffuse` (colour / pi, already scaled) and the sheen
-// lobe (KHR_materials_sheen, the path tracer's SheenLobe), folded where the shading and
-// geometric normals disagree (shading_inputs.h): 0 for a light below either plane.
+// lobe (KHR_materials_sheen, the path tracer's SheenLobe) around the frame's normal (ns, or
+// bent as the path tracer bends it: shading_inputs.h): 0 for a light below either plane.
 struct WhittedIntegrator::DirectResponse {
   const ShadingInputs& si;
   glm::vec3 diffuse;
@@ -53,17 +54,12 @@ struct WhittedIntegrator::DirectResponse {
   glm::vec3 wo_local;
 
   glm::vec3 operator()(const glm::vec3& wi) const {
-    return evaluate_folded<glm::vec3>(si, wi, [&](const glm::vec3& w) {
-      glm::vec3 f = diffuse * std::max(0.0f, glm::dot(si.ns, w));
-      if (sheen.exists()) f += sheen.eval(wo_local, frame.to_local(w)).f;
-      return f;
-    });
+    if (!sides_agree(si.ng, frame.n, wi)) return glm::vec3(0.0f);
+    glm::vec3 f = diffuse * std::max(0.0f, glm::dot(frame.n, wi));
+    if (sheen.exists()) f += sheen.eval(wo_local, frame.to_local(wi)).f;
+    return f;
   }
 };
-
-namespace {
-
-}  // namespace
 
 WhittedIntegrator::WhittedIntegrator(const Scene& scene, const Accelerator& accel, const AreaLights& area_lights,
                                      int max_depth, int light_samples)
@@ -109,7 +105,7 @@ glm::vec3 WhittedIntegrator::shade_surface(const ShadingInputs& si, const Ray& r
   // clearcoat * Fc(|n_c.V|) (the extension's fresnel_coat, ClearcoatLobe::layer_weight) and
   // passing the remainder down.
   float under_coat = 1.0f;
-  if (si.clearcoat > 0.0f && si.clearcoat_roughness < kMirrorRoughness) {
+  if (has_mirror_coat(si)) {
     const glm::vec3 nc = coat_normal(si);
     const float coat =
         ClearcoatLobe(si.clearcoat, si.clearcoat_roughness).layer_weight(glm::vec3(0.0f, 0.0f, std::abs(glm::dot(nc, -ray.dir))));
@@ -124,7 +120,10 @@ glm::vec3 WhittedIntegrator::shade_surface(const ShadingInputs& si, const Ray& r
 glm::vec3 WhittedIntegrator::shade_base(const ShadingInputs& si, const Ray& ray, int depth, SobolSampler& sampler,
                                         std::uint64_t& rays) const {
   // KHR_materials_sheen: the sheen lobe over the base, which it dims by 1 - max(sheenColor) E.
-  const ShadingFrame frame = ShadingFrame::from_normal(si.ns);
+  // Without a mirror (a delta lobe) or transmission, the normal bends as the path tracer's.
+  const bool bendable = !is_mirror(si) && !has_mirror_coat(si) && !(si.transmission > 0.0f);
+  const ShadingFrame frame =
+      ShadingFrame::from_normal(bendable && si.ns != si.ng ? bent_shading_normal(si.ng, si.ns, -ray.dir) : si.ns);
   const DirectResponse response_template{si, glm::vec3(0.0f), SheenLobe(si.sheen_color, si.sheen_roughness), frame,
                                          frame.to_local(-ray.dir)};
   const float scale = response_template.sheen.base_scale(response_template.wo_local);

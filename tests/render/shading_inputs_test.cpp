@@ -4,10 +4,13 @@
 // shading_inputs_gltf_test.cpp.
 #include "render/shading_inputs.h"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <string>
 
 #include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
 #include <glm/gtc/type_precision.hpp>
 #include <gtest/gtest.h>
 
@@ -320,20 +323,52 @@ TEST(FoldedDirections, WedgeDirectionsLandWhereBothNormalsAgreeOnTheSameSideOfNs
   }
 }
 
-TEST(FoldedDirections, FoldedCosineLosesNothing) {
-  // A Lambertian lobe around a leaning ns: the cosine over ns's upper hemisphere integrates
-  // to pi. Dropping the wedge loses the part below the surface; folding it keeps all of it.
-  for (float lean : {30.0f, 60.0f}) {
-    const ShadingInputs si = leaning(lean);
-    double folded = 0.0, dropped = 0.0;
-    for_sphere_grid(1024, 1024, [&](const glm::vec3& d, double dw) {
-      auto cosine = [&](const glm::vec3& w) { return std::max(0.0, double(glm::dot(si.ns, w))); };
-      folded += evaluate_folded<double>(si, d, cosine) * dw;
-      dropped += (sides_agree(si, d) ? cosine(d) : 0.0) * dw;
-    });
-    EXPECT_NEAR(folded, 3.14159265358979, 2e-3) << "lean " << lean;
-    EXPECT_LT(dropped, 3.14159265358979 - 0.1) << "lean " << lean << ": the test must see the wedge";
+// The viewer's mirror image about `n`.
+glm::vec3 mirror_of(const glm::vec3& wo, const glm::vec3& n) { return 2.0f * glm::dot(n, wo) * n - wo; }
+
+TEST(BentShadingNormal, StaysWhereTheViewersMirrorImageClearsTheSurface) {
+  // ns leaning 30 degrees toward +x, viewers on that side: the mirror image lies 60 - view
+  // degrees off ng, above the surface for every view up to 60 degrees.
+  const ShadingInputs si = leaning(30.0f);
+  for (float view : {0.0f, 20.0f, 45.0f, 59.0f}) {
+    const float a = view * 3.14159265f / 180.0f;
+    const glm::vec3 wo(std::sin(a), 0.0f, std::cos(a));
+    EXPECT_EQ(bent_shading_normal(si.ng, si.ns, wo), si.ns) << "view " << view;
   }
+  EXPECT_EQ(bent_shading_normal(si.ng, si.ng, glm::normalize(glm::vec3(1, 2, 0.001f))), si.ng) << "flat: never bent";
+}
+
+TEST(BentShadingNormal, LiftsTheMirrorImageExactlyToItsHeightBound) {
+  // Views all around a normal leaning 20-80 degrees, and grazing ones: where the image about
+  // ns falls below h = min(0.9 wo.ng, 0.01), the bent normal's image rises exactly to h,
+  // keeps the image's azimuth about ng, and faces the viewer; elsewhere nothing moves.
+  int bent = 0;
+  for (float lean : {20.0f, 50.0f, 80.0f}) {
+    const ShadingInputs si = leaning(lean);
+    for_sphere_grid(32, 64, [&](const glm::vec3& d, double) {
+      if (!(d.z > 0.0f) || !(glm::dot(d, si.ns) > 0.0f)) return;  // ns faces the viewer (face_viewer)
+      const glm::vec3 n = bent_shading_normal(si.ng, si.ns, d);
+      const float h = std::min(0.9f * d.z, 0.01f);
+      const glm::vec3 before = mirror_of(d, si.ns);
+      if (before.z >= h) {
+        EXPECT_EQ(n, si.ns);
+        return;
+      }
+      ++bent;
+      ASSERT_NEAR(glm::length(n), 1.0f, 1e-5f);
+      const glm::vec3 after = mirror_of(d, n);
+      EXPECT_NEAR(after.z, h, 2e-5f) << "lean " << lean;
+      EXPECT_NEAR(glm::length(after), 1.0f, 1e-5f);
+      EXPECT_GT(glm::dot(n, d), 0.0f);
+      EXPECT_GT(n.z, 0.0f);
+      // The same azimuth: the tangential parts point the same way.
+      const glm::vec2 t0(before.x, before.y), t1(after.x, after.y);
+      if (glm::length(t0) > 1e-3f) {
+        EXPECT_NEAR(glm::dot(glm::normalize(t0), glm::normalize(t1)), 1.0f, 1e-4f);
+      }
+    });
+  }
+  EXPECT_GT(bent, 100) << "the test must see bent normals";
 }
 
 }  // namespace

@@ -1,0 +1,149 @@
+// SurfaceScattering where the shading normal leans (render/shading_inputs.h): delta
+// directions are folded, every other direction in the wedge between the two tangent planes
+// is dropped (by evaluate and by sample alike), and a reflecting BSDF without delta lobes
+// bends its normal with the viewer while one that transmits does not.
+#include "render/surface_bsdf.h"
+
+#include <cmath>
+#include <cstdint>
+#include <optional>
+
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
+#include <gtest/gtest.h>
+
+namespace lancer {
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+
+// ng = +z, ns leaning `lean` degrees toward +x, a white material of `roughness`.
+ShadingInputs leaning_point(float lean_degrees, float roughness, float metallic, float transmission) {
+  ShadingInputs si;
+  const float lean = lean_degrees * kPi / 180.0f;
+  si.ng = {0, 0, 1};
+  si.ns = {std::sin(lean), 0, std::cos(lean)};
+  si.tangent = {std::cos(lean), 0, -std::sin(lean)};
+  si.base_color = glm::vec3(1.0f);
+  si.roughness = roughness;
+  si.metallic = metallic;
+  si.transmission = transmission;
+  return si;
+}
+
+// A view `degrees` off ng toward +x (the side ns leans to).
+glm::vec3 view(float degrees) {
+  const float a = degrees * kPi / 180.0f;
+  return {std::sin(a), 0.0f, std::cos(a)};
+}
+
+struct Uniform {
+  std::uint64_t state = 11;
+  float operator()() {
+    state = state * 6364136223846793005ull + 1442695040888963407ull;
+    return static_cast<float>(state >> 40) * 0x1p-24f;
+  }
+};
+
+// Draws `count` samples and checks each against the wedge of normal `n`; returns how many
+// came back.
+int samples_outside_the_wedge(const SurfaceScattering& sc, const glm::vec3& n, int count) {
+  Uniform uniform;
+  int kept = 0;
+  for (int i = 0; i < count; ++i) {
+    const float u_split = uniform();
+    const glm::vec2 u(uniform(), uniform());
+    const std::optional<BsdfSample> bs = sc.sample(u_split, u);
+    if (!bs) continue;
+    ++kept;
+    EXPECT_TRUE(sides_agree(sc.si.ng, n, bs->wi)) << "sample " << i;
+  }
+  return kept;
+}
+
+TEST(SurfaceScattering, RoughMetalBendsItsNormalForAViewWhoseMirrorImageFallsBelow) {
+  // ns leans 40 degrees toward +x; a viewer 45 degrees off ng on the other side (-x), 85
+  // degrees from ns, has its mirror image about ns 125 degrees off ng: below the surface.
+  const ShadingInputs si = leaning_point(40.0f, 0.4f, 1.0f, 0.0f);
+  const glm::vec3 wo = view(-45.0f);
+  const SurfaceScattering sc(si, wo);
+  ASSERT_TRUE(sc.bendable);
+  EXPECT_EQ(sc.n, bent_shading_normal(si.ng, si.ns, wo));
+  EXPECT_NE(sc.n, si.ns);
+  // Its BSDF is the one around the bent normal: the same value as a flat surface whose
+  // shading normal is the bent one, for directions outside the wedge.
+  ShadingInputs flat = si;
+  flat.ns = sc.n;
+  flat.tangent = glm::normalize(glm::cross(glm::vec3(0, 1, 0), sc.n));
+  const Bsdf around_bent = surface_bsdf(flat);
+  int compared = 0, dropped = 0;
+  for (int i = 0; i < 64; ++i)
+    for (int j = 0; j < 64; ++j) {
+      const float z = -1.0f + 2.0f * (float(i) + 0.5f) / 64.0f, phi = 2.0f * kPi * (float(j) + 0.5f) / 64.0f;
+      const float r = std::sqrt(1.0f - z * z);
+      const glm::vec3 wi(r * std::cos(phi), r * std::sin(phi), z);
+      const BsdfEval e = sc.evaluate(wi);
+      if (!sides_agree(si.ng, sc.n, wi)) {
+        ++dropped;
+        EXPECT_EQ(e.f, glm::vec3(0.0f));
+        EXPECT_EQ(e.pdf, 0.0f);
+        continue;
+      }
+      const BsdfEval expected = around_bent.evaluate(wo, wi);
+      EXPECT_NEAR(e.f.x, expected.f.x, 1e-5f * (1.0f + expected.f.x));
+      EXPECT_NEAR(e.pdf, expected.pdf, 1e-5f * (1.0f + expected.pdf));
+      ++compared;
+    }
+  EXPECT_GT(compared, 1000);
+  EXPECT_GT(dropped, 100) << "the test must see the wedge";
+  EXPECT_GT(samples_outside_the_wedge(sc, sc.n, 20000), 10000);
+}
+
+TEST(SurfaceScattering, SeenFromAnotherViewIsTheBsdfThatViewBuilds) {
+  // The photon walk's adjoint: the BSDF as a camera at `other` would see it, normal bent
+  // for that view.
+  const ShadingInputs si = leaning_point(40.0f, 0.4f, 1.0f, 0.0f);
+  const SurfaceScattering sc(si, view(10.0f));
+  const glm::vec3 other = view(-45.0f);
+  const SurfaceScattering from_other(si, other);
+  ASSERT_NE(sc.n, from_other.n) << "the two views must bend differently";
+  for (float a : {-60.0f, -20.0f, 0.0f, 30.0f, 80.0f}) {
+    const glm::vec3 wi = view(a);
+    EXPECT_EQ(sc.evaluate_seen_from(other, wi).f, from_other.evaluate(wi).f) << a;
+  }
+}
+
+TEST(SurfaceScattering, RoughGlassKeepsItsNormalAndDropsTheWedge) {
+  // A rough thin wall that transmits: no bending (its refraction would change), the wedge
+  // of ns dropped both ways.
+  ShadingInputs si = leaning_point(40.0f, 0.4f, 0.0f, 1.0f);
+  const glm::vec3 wo = view(-45.0f);
+  const SurfaceScattering sc(si, wo);
+  EXPECT_FALSE(sc.bendable);
+  EXPECT_EQ(sc.n, si.ns);
+  // Below ng but above ns (toward +x, low): in the wedge, dropped.
+  const glm::vec3 wedge = glm::normalize(glm::vec3(1.0f, 0.0f, -0.2f));
+  ASSERT_FALSE(sides_agree(si, wedge));
+  EXPECT_EQ(sc.evaluate(wedge).f, glm::vec3(0.0f));
+  EXPECT_GT(samples_outside_the_wedge(sc, si.ns, 20000), 1000);
+}
+
+TEST(SurfaceScattering, SmoothMirrorFoldsItsReflectionThroughTheSurface) {
+  // A smooth white metal (delta): seen from -x at 45 degrees, its reflection about ns lies
+  // below the surface; the sample comes back mirrored through the tangent plane, weight kept.
+  const ShadingInputs si = leaning_point(40.0f, 0.0f, 1.0f, 0.0f);
+  const glm::vec3 wo = view(-45.0f);
+  const SurfaceScattering sc(si, wo);
+  EXPECT_FALSE(sc.bendable);
+  const glm::vec3 reflected = 2.0f * glm::dot(si.ns, wo) * si.ns - wo;
+  ASSERT_LT(reflected.z, 0.0f);
+  const std::optional<BsdfSample> bs = sc.sample(0.5f, glm::vec2(0.5f));
+  ASSERT_TRUE(bs.has_value());
+  ASSERT_TRUE(bs->delta);
+  EXPECT_NEAR(bs->wi.x, reflected.x, 1e-5f);
+  EXPECT_NEAR(bs->wi.y, reflected.y, 1e-5f);
+  EXPECT_NEAR(bs->wi.z, -reflected.z, 1e-5f);
+}
+
+}  // namespace
+}  // namespace lancer

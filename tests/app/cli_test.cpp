@@ -16,6 +16,7 @@
 
 #include "render/image_io.h"
 #include "simd/isa.h"
+#include "temp_dir.h"
 #include "test_paths.h"
 
 namespace lancer {
@@ -37,10 +38,10 @@ CliResult run(std::vector<std::string> args) {
   return {code, out.str(), err.str()};
 }
 
+// This process's folder, removed when it exits.
 fs::path temp_dir() {
-  const fs::path dir = fs::temp_directory_path() / ("lancer_cli_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir;
+  static const test::TempDir dir("lancer_cli_test");
+  return dir.path();
 }
 
 std::string cornell() { return (test::scenes_dir() / "cornell-box.gltf").string(); }

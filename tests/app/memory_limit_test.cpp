@@ -19,6 +19,7 @@
 
 #include "test_process.h"
 #include "test_sanitizer.h"
+#include "temp_dir.h"
 
 namespace lancer {
 namespace {
@@ -45,8 +46,7 @@ LimitedRun run_limited(const std::vector<std::string>& args, rlim_t bytes, const
 
 TEST(MemoryLimit, EveryAllocationFailureNamesItsSize) {
   if (test::kAddressSanitized) GTEST_SKIP() << "AddressSanitizer reserves more address space than any limit here allows";
-  const fs::path dir = fs::temp_directory_path() / ("lancer_memory_limit_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const test::TempDir dir("lancer_memory_limit_test");
   const std::string bin = LANCER_BINARY;
   // rings-1: 11,522 triangles, the lean build; rings-3: 161,282, built on every thread.
   for (const char* size : {"1", "3"}) {
@@ -80,7 +80,6 @@ TEST(MemoryLimit, EveryAllocationFailureNamesItsSize) {
                            << " MiB";
     EXPECT_GT(sized, 0) << "rings-" << size << ": no limit made lancer info fail inside the load or build";
   }
-  fs::remove_all(dir);
 }
 
 }  // namespace

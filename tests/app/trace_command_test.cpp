@@ -23,6 +23,7 @@
 #include "scene/load_scene.h"
 #include "simd/isa.h"
 #include "test_paths.h"
+#include "temp_dir.h"
 
 namespace lancer {
 namespace {
@@ -43,10 +44,10 @@ CliResult run(std::vector<std::string> args) {
   return {code, out.str(), err.str()};
 }
 
+// This process's folder, removed when it exits.
 fs::path temp_dir() {
-  const fs::path dir = fs::temp_directory_path() / ("lancer_trace_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir;
+  static const test::TempDir dir("lancer_trace_test");
+  return dir.path();
 }
 
 std::string file_text(const fs::path& file) {

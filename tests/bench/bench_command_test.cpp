@@ -9,6 +9,8 @@
 #include <filesystem>
 #include <sstream>
 
+#include "temp_dir.h"
+
 namespace lancer {
 namespace {
 
@@ -20,8 +22,7 @@ TEST(BenchCommand, LooksForLancerBenchBesideTheRunningBinary) {
 }
 
 TEST(BenchCommand, MissingProgramIsAClearErrorNotACrash) {
-  const fs::path dir = fs::temp_directory_path() / ("lancer_bench_command_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const test::TempDir dir("lancer_bench_command");
   const fs::path missing = dir / "lancer-bench";
   std::ostringstream err;
   EXPECT_EQ(exec_bench_program(missing, {"--quick"}, err), 1);
@@ -33,7 +34,6 @@ TEST(BenchCommand, MissingProgramIsAClearErrorNotACrash) {
   err.str("");
   EXPECT_EQ(exec_bench_program(missing, {}, err), 1);
   EXPECT_NE(err.str().find("not found"), std::string::npos) << err.str();
-  fs::remove_all(dir);
 }
 
 }  // namespace

@@ -14,6 +14,8 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "temp_dir.h"
+
 namespace lancer {
 namespace {
 
@@ -25,8 +27,7 @@ std::string file_text(const fs::path& file) {
 }
 
 TEST(BenchPeakMemory, ReportedPerSceneAndForTheRunAndGrowsWithTheScene) {
-  const fs::path dir = fs::temp_directory_path() / ("lancer_bench_peak_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const test::TempDir dir("lancer_bench_peak");
   // The Cornell box (32 triangles), then SPD balls at depth 3 (262,402 triangles).
   const std::string command = std::string(LANCER_BENCH_BINARY) +
                               " --scenes cornell-box,balls-3 --sets primary --reps 1 --size 32 --threads 1 --json " +
@@ -52,7 +53,6 @@ TEST(BenchPeakMemory, ReportedPerSceneAndForTheRunAndGrowsWithTheScene) {
 
   const std::string out = file_text(dir / "out.txt");
   EXPECT_NE(out.find("peak RSS"), std::string::npos) << out;
-  fs::remove_all(dir);
 }
 
 }  // namespace

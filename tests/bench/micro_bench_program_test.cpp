@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "simd/isa.h"
+#include "temp_dir.h"
 
 namespace lancer {
 namespace {
@@ -35,8 +36,7 @@ std::string text_of(const fs::path& file) {
 }
 
 MicroRun run_micro(const std::string& args) {
-  const fs::path dir = fs::temp_directory_path() / ("lancer_micro_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
+  const test::TempDir dir("lancer_micro_test");
   const std::string command = std::string(LANCER_BENCH_MICRO_BINARY) + " " + args +
                               " --benchmark_format=json >" + (dir / "out.json").string() + " 2>" +
                               (dir / "err.txt").string();
@@ -46,7 +46,6 @@ MicroRun run_micro(const std::string& args) {
   r.err = text_of(dir / "err.txt");
   const nlohmann::json j = nlohmann::json::parse(text_of(dir / "out.json"), nullptr, /*allow_exceptions=*/false);
   if (j.is_object() && j.contains("benchmarks")) r.rows = j.at("benchmarks");
-  fs::remove_all(dir);
   return r;
 }
 

@@ -14,16 +14,17 @@
 #include <vector>
 
 #include "simd/splitmix64.h"
+#include "temp_dir.h"
 
 namespace lancer {
 namespace {
 
 namespace fs = std::filesystem;
 
+// This process's folder, removed when it exits.
 fs::path temp_dir() {
-  const fs::path dir = fs::temp_directory_path() / ("lancer_ray_file_test_" + std::to_string(::getpid()));
-  fs::create_directories(dir);
-  return dir;
+  static const test::TempDir dir("lancer_ray_file_test");
+  return dir.path();
 }
 
 std::vector<unsigned char> file_bytes(const fs::path& file) {

@@ -133,49 +133,71 @@ float surface_coverage(const Scene& scene, const Ray& ray, const Hit& hit);
 // side transmitted. Leaving the point it must also lie on the matching side of the true
 // surface (ng), else light would pass through it. The two disagree in the wedge between the
 // shading and the geometric tangent planes, and what happens there is a modelling choice
-// glTF leaves open; Lancer makes Cycles' (the reference renderer it is compared with), by
-// kind of lobe:
-//  - Delta lobes (smooth mirrors, smooth glass, a smooth coat) are folded: a direction in
-//    the wedge is mirrored through the geometric tangent plane (issue 20). While
-//    dot(n, ng) > 0 its image lies where both normals agree, on the same side of n, so a
-//    reflection stays a reflection and a refraction goes through, and a delta lobe keeps all
-//    its energy. A lossless smooth glass sphere of 16 x 8 facets with interpolated normals
+// glTF leaves open. Lancer's, in two cases:
+//  - A BSDF with no delta lobe and no transmission (rough opaque surfaces, most of a
+//    normal-mapped glTF file) does what Cycles (the reference renderer Lancer is compared
+//    with) does: it is evaluated around a bent normal (bent_shading_normal, after Cycles'
+//    ensure_valid_reflection: where the viewer's mirror image about ns falls below the
+//    surface, ns turns toward ng just enough for that image to clear it, so a glossy lobe
+//    keeps its highlight above the surface), and it loses what it still sends into the
+//    wedge: f is 0 there, and a sample drawn into it ends the path. Folding these too, as
+//    below, kept their energy but added light Cycles does not have: the normal-mapped still
+//    life (scenes/textured/still-life.gltf, 256 x 256 x 1,024 spp against Cycles at 4,096)
+//    came out 3.2 % brighter than Cycles, MSE 4.30e-4; dropping without bending 1.99e-4,
+//    bending and dropping 1.72e-4.
+//  - Every other BSDF folds (issue 20): a direction in the wedge is mirrored through the
+//    geometric tangent plane. While dot(ns, ng) > 0 the image lies where both normals
+//    agree, on the same side of ns, so a reflection stays a reflection and a refraction goes
+//    through, and the folded BSDF scatters exactly the energy of the unfolded one:
+//      f_folded(wi) = f(wi) + f(mirror(wi)) [mirror(wi) in the wedge]  for wi where they agree,
+//      f_folded(wi) = 0                                                  for wi in the wedge.
+//    A sample drawn from f's density and folded keeps its weight f / pdf (the mirror has
+//    Jacobian 1); its density as seen by MIS is the folded sum of f's densities. Glass keeps
+//    its light this way: a lossless glass sphere of 16 x 8 facets with interpolated normals
 //    in a uniform field of radiance 1 (tests/render/shading_normal_render_test.cpp), mean of
-//    its outer ring, 64 spp: dropping the wedge 0.955, bending as below 0.970 (bent normals
-//    trap paths by total internal reflection along the rim), folding 1.000.
-//  - Non-delta lobes lose the wedge: f is 0 there, and a sample drawn into it ends the path.
-//    Folding them too kept their energy but added light Cycles does not have: the
-//    normal-mapped still life (scenes/textured/still-life.gltf) came out 3.2 % brighter than
-//    Cycles at 1,024 spp, up to 18 % per 16 x 16 block; dropping gives 1.001 of Cycles'
-//    image mean.
-//  - A BSDF with no delta lobe and no transmission is evaluated around a bent normal
-//    (bent_shading_normal, after Cycles' ensure_valid_reflection): where the viewer's mirror
-//    image about ns falls below the surface, ns is turned toward ng just enough for that
-//    image to clear it, so a glossy lobe around a leaning normal keeps its highlight above
-//    the surface instead of losing most of it to the wedge (dark crescents on normal-mapped
-//    rough metal). On the still life (256 x 256 x 1,024 spp against Cycles at 4,096) bending
-//    lowers the MSE from 1.99e-4 (dropping alone) to 1.72e-4, most in the blocks of the
-//    normal-mapped floor and objects; folding everything gave 4.30e-4.
+//    its outer ring, 64 spp: smooth, dropping the wedge 0.955, bending 0.970 (bent normals
+//    trap paths by total internal reflection along the rim), folding 1.000; rough (0.3),
+//    dropping 4 % below a 64 x 32 sphere's, folding the same. And a delta lobe must not bend:
+//    the bent normal depends on the viewer, so a mirror would no longer send light back the
+//    way it came, and the light tracer's paths through it would not be the path tracer's.
 inline bool sides_agree(const glm::vec3& ng, const glm::vec3& n, const glm::vec3& wi) {
   return (wi.x * ng.x + wi.y * ng.y + wi.z * ng.z > 0.0f) == (wi.x * n.x + wi.y * n.y + wi.z * n.z > 0.0f);
 }
 inline bool sides_agree(const ShadingInputs& si, const glm::vec3& wi) { return sides_agree(si.ng, si.ns, wi); }
+
+// Whether the BSDF of `si` bends its normal (the first case above) rather than folds: ns
+// leans, and the material neither transmits nor has a delta lobe (`has_delta`: the
+// integrator's own test of its BSDF; Bsdf::has_delta for the layered glTF BSDF).
+inline bool bends_normal(const ShadingInputs& si, bool has_delta) {
+  return si.ns != si.ng && !has_delta && !(si.transmission > 0.0f);
+}
 
 // wi mirrored through the geometric tangent plane.
 inline glm::vec3 mirror_through_surface(const ShadingInputs& si, const glm::vec3& wi) {
   return wi - (2.0f * (wi.x * si.ng.x + wi.y * si.ng.y + wi.z * si.ng.z)) * si.ng;
 }
 
-// A delta direction made to leave on the side both normals agree on: itself, or its mirror
-// image when it lies in the wedge. False when neither does (only where wi lies in a tangent
-// plane, or where dot(ns, ng) <= 0 puts the image in the wedge too).
+// A scattered direction made to leave on the side both normals agree on: itself, or its
+// mirror image when it lies in the wedge. False when neither does (only where wi lies in a
+// tangent plane, or where dot(ns, ng) <= 0 puts the image in the wedge too).
 inline bool fold_direction(const ShadingInputs& si, glm::vec3& wi) {
   if (sides_agree(si, wi)) return true;
   wi = mirror_through_surface(si, wi);
   return sides_agree(si, wi);
 }
 
-// The shading normal a reflecting, non-delta BSDF uses seen from unit wo (on ng's side):
+// The folded value of any quantity a BSDF gives a direction (f, its density, a cosine):
+// eval(wi), plus eval of wi's mirror image when that lies in the wedge; T{} for wi in the wedge.
+template <typename T, typename Eval>
+T evaluate_folded(const ShadingInputs& si, const glm::vec3& wi, Eval eval) {
+  if (!sides_agree(si, wi)) return T{};
+  T value = eval(wi);
+  const glm::vec3 m = mirror_through_surface(si, wi);
+  if (!sides_agree(si, m)) value += eval(m);
+  return value;
+}
+
+// The normal a BSDF that bends (bends_normal) uses seen from unit wo (on ng's side):
 // ns itself when wo's mirror image about it rises at least h = min(0.9 wo.ng, 0.01) above the
 // geometric tangent plane; else the half vector of wo and that image lifted to height h
 // (same azimuth about ng), whose mirror image of wo is exactly the lifted one. ng where the

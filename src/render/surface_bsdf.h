@@ -55,47 +55,59 @@ inline bool volume_absorption(const ShadingInputs& si, glm::vec3& sigma_a) {
 }
 
 // The BSDF at a shading point seen from wo, with the wedge between the shading and the
-// geometric tangent planes handled as shading_inputs.h describes (delta directions folded,
-// the rest dropped, the normal bent for reflecting non-delta BSDFs): what a path, a photon
-// and a gather ask of a surface. `si` must outlive it.
+// geometric tangent planes handled as shading_inputs.h describes (the normal bent and the
+// wedge dropped, or every direction folded): what a path, a photon and a gather ask of a
+// surface. `si` must outlive it.
 struct SurfaceScattering {
   const ShadingInputs& si;
   Bsdf bsdf;
   Bsdf::Outgoing out;
-  bool leaning;    // ns != ng: the wedge exists
-  bool bendable;   // no delta lobe, no transmission: the normal bends with the viewer
-  glm::vec3 n;     // the BSDF's normal: si.ns, or bent for wo
+  bool leaning;  // ns != ng: the wedge exists
+  bool bends;    // bends_normal: the normal bends with the viewer, else directions fold
+  glm::vec3 n;   // the BSDF's normal: si.ns, or bent for wo
 
   SurfaceScattering(const ShadingInputs& s, const glm::vec3& wo)
-      : si(s), bsdf(surface_bsdf(s)), leaning(s.ns != s.ng), bendable(false), n(s.ns) {
-    if (leaning && !bsdf.has_delta() && !(s.transmission > 0.0f)) {
-      bendable = true;
+      : si(s), bsdf(surface_bsdf(s)), leaning(s.ns != s.ng), bends(false), n(s.ns) {
+    if (bends_normal(s, bsdf.has_delta())) {
+      bends = true;
       n = bent_shading_normal(s.ng, s.ns, wo);
       if (n != s.ns) bsdf = surface_bsdf(s, ShadingFrame::from_normal_tangent(n, s.tangent));
     }
     out = bsdf.outgoing(wo);
   }
 
-  // f |cos(wi, n)| and the density; nothing in the wedge.
-  BsdfEval evaluate(const glm::vec3& wi) const {
-    if (leaning && !sides_agree(si.ng, n, wi)) return {};
-    return bsdf.evaluate(out, wi);
-  }
+  // f |cos(wi, n)| and the density.
+  BsdfEval evaluate(const glm::vec3& wi) const { return evaluate(out, wi); }
   // The same for the BSDF seen from `view` instead of wo (a photon's adjoint: the camera
   // would look from where it goes on).
   BsdfEval evaluate_seen_from(const glm::vec3& view, const glm::vec3& wi) const {
-    if (bendable) return SurfaceScattering(si, view).evaluate(wi);
-    if (leaning && !sides_agree(si.ng, n, wi)) return {};
-    return bsdf.evaluate(bsdf.outgoing(view), wi);
+    if (bends) return SurfaceScattering(si, view).evaluate(wi);
+    return evaluate(bsdf.outgoing(view), wi);
   }
-  // A sampled direction: a delta one folded, any other dropped in the wedge (nullopt, as
-  // when absorbed). The density multiple importance sampling sees is the drawn one: dropping
-  // moves no direction, and a delta sample's density is not compared.
+  // A sampled direction, dropped (nullopt, as when absorbed) or folded where it falls in the
+  // wedge. A folded one's density, as multiple importance sampling sees it, is the drawn
+  // density plus that of the direction's other preimage (the mirror has Jacobian 1, so the
+  // weight f / pdf stays); dropping moves no direction.
   std::optional<BsdfSample> sample(float u_split, glm::vec2 u) const {
     std::optional<BsdfSample> bs = bsdf.sample(out, u_split, u);
     if (!bs || !leaning) return bs;
-    if (bs->delta ? !fold_direction(si, bs->wi) : !sides_agree(si.ng, n, bs->wi)) return std::nullopt;
+    if (bends) return sides_agree(si.ng, n, bs->wi) ? bs : std::nullopt;
+    const glm::vec3 drawn = bs->wi;
+    if (!fold_direction(si, bs->wi)) return std::nullopt;
+    if (!bs->delta) {
+      if (bs->wi != drawn)
+        bs->pdf += bsdf.evaluate(out, bs->wi).pdf;
+      else if (const glm::vec3 m = mirror_through_surface(si, bs->wi); !sides_agree(si, m))
+        bs->pdf += bsdf.evaluate(out, m).pdf;
+    }
     return bs;
+  }
+
+ private:
+  BsdfEval evaluate(const Bsdf::Outgoing& from, const glm::vec3& wi) const {
+    if (!leaning) return bsdf.evaluate(from, wi);
+    if (bends) return sides_agree(si.ng, n, wi) ? bsdf.evaluate(from, wi) : BsdfEval{};
+    return evaluate_folded<BsdfEval>(si, wi, [&](const glm::vec3& w) { return bsdf.evaluate(from, w); });
   }
 };
 

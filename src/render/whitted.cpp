@@ -44,20 +44,25 @@ glm::vec3 coat_normal(const ShadingInputs& si) {
 
 // What a lit point sends toward the viewer per unit radiance arriving from wi, f * cos(wi):
 // the Lambertian base with weight `diffuse` (colour / pi, already scaled) and the sheen
-// lobe (KHR_materials_sheen, the path tracer's SheenLobe) around the frame's normal (ns, or
-// bent as the path tracer bends it: shading_inputs.h): 0 for a light below either plane.
+// lobe (KHR_materials_sheen, the path tracer's SheenLobe) around the frame's normal, with the
+// wedge handled as shading_inputs.h says: the normal bent and the wedge dropped (`bends`),
+// or folded. 0 for a light below either plane.
 struct WhittedIntegrator::DirectResponse {
   const ShadingInputs& si;
   glm::vec3 diffuse;
   SheenLobe sheen;
-  ShadingFrame frame;
+  ShadingFrame frame;  // around ns, or the bent normal
   glm::vec3 wo_local;
+  bool bends;
 
-  glm::vec3 operator()(const glm::vec3& wi) const {
-    if (!sides_agree(si.ng, frame.n, wi)) return glm::vec3(0.0f);
+  glm::vec3 lobes(const glm::vec3& wi) const {
     glm::vec3 f = diffuse * std::max(0.0f, glm::dot(frame.n, wi));
     if (sheen.exists()) f += sheen.eval(wo_local, frame.to_local(wi)).f;
     return f;
+  }
+  glm::vec3 operator()(const glm::vec3& wi) const {
+    if (!bends) return evaluate_folded<glm::vec3>(si, wi, [&](const glm::vec3& w) { return lobes(w); });
+    return sides_agree(si.ng, frame.n, wi) ? lobes(wi) : glm::vec3(0.0f);
   }
 };
 
@@ -120,12 +125,11 @@ glm::vec3 WhittedIntegrator::shade_surface(const ShadingInputs& si, const Ray& r
 glm::vec3 WhittedIntegrator::shade_base(const ShadingInputs& si, const Ray& ray, int depth, SobolSampler& sampler,
                                         std::uint64_t& rays) const {
   // KHR_materials_sheen: the sheen lobe over the base, which it dims by 1 - max(sheenColor) E.
-  // Without a mirror (a delta lobe) or transmission, the normal bends as the path tracer's.
-  const bool bendable = !is_mirror(si) && !has_mirror_coat(si) && !(si.transmission > 0.0f);
-  const ShadingFrame frame =
-      ShadingFrame::from_normal(bendable && si.ns != si.ng ? bent_shading_normal(si.ng, si.ns, -ray.dir) : si.ns);
-  const DirectResponse response_template{si, glm::vec3(0.0f), SheenLobe(si.sheen_color, si.sheen_roughness), frame,
-                                         frame.to_local(-ray.dir)};
+  // Mirrors are this model's delta lobes: without them the normal bends as the path tracer's.
+  const bool bends = bends_normal(si, is_mirror(si) || has_mirror_coat(si));
+  const ShadingFrame frame = ShadingFrame::from_normal(bends ? bent_shading_normal(si.ng, si.ns, -ray.dir) : si.ns);
+  const DirectResponse response_template{
+      si, glm::vec3(0.0f), SheenLobe(si.sheen_color, si.sheen_roughness), frame, frame.to_local(-ray.dir), bends};
   const float scale = response_template.sheen.base_scale(response_template.wo_local);
   glm::vec3 L(0.0f);
   float diffuse = 0.0f;

@@ -323,6 +323,22 @@ TEST(FoldedDirections, WedgeDirectionsLandWhereBothNormalsAgreeOnTheSameSideOfNs
   }
 }
 
+TEST(FoldedDirections, FoldedCosineLosesNothing) {
+  // A Lambertian lobe around a leaning ns: the cosine over ns's upper hemisphere integrates
+  // to pi. Dropping the wedge loses the part below the surface; folding it keeps all of it.
+  for (float lean : {30.0f, 60.0f}) {
+    const ShadingInputs si = leaning(lean);
+    double folded = 0.0, dropped = 0.0;
+    for_sphere_grid(1024, 1024, [&](const glm::vec3& d, double dw) {
+      auto cosine = [&](const glm::vec3& w) { return std::max(0.0, double(glm::dot(si.ns, w))); };
+      folded += evaluate_folded<double>(si, d, cosine) * dw;
+      dropped += (sides_agree(si, d) ? cosine(d) : 0.0) * dw;
+    });
+    EXPECT_NEAR(folded, 3.14159265358979, 2e-3) << "lean " << lean;
+    EXPECT_LT(dropped, 3.14159265358979 - 0.1) << "lean " << lean << ": the test must see the wedge";
+  }
+}
+
 // The viewer's mirror image about `n`.
 glm::vec3 mirror_of(const glm::vec3& wo, const glm::vec3& n) { return 2.0f * glm::dot(n, wo) * n - wo; }
 

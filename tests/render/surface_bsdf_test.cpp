@@ -1,7 +1,6 @@
-// SurfaceScattering where the shading normal leans (render/shading_inputs.h): delta
-// directions are folded, every other direction in the wedge between the two tangent planes
-// is dropped (by evaluate and by sample alike), and a reflecting BSDF without delta lobes
-// bends its normal with the viewer while one that transmits does not.
+// SurfaceScattering where the shading normal leans (render/shading_inputs.h): a rough
+// opaque BSDF bends its normal with the viewer and drops the wedge between the two tangent
+// planes (evaluate and sample alike); one that transmits, or has a delta lobe, folds it.
 #include "render/surface_bsdf.h"
 
 #include <cmath>
@@ -67,7 +66,7 @@ TEST(SurfaceScattering, RoughMetalBendsItsNormalForAViewWhoseMirrorImageFallsBel
   const ShadingInputs si = leaning_point(40.0f, 0.4f, 1.0f, 0.0f);
   const glm::vec3 wo = view(-45.0f);
   const SurfaceScattering sc(si, wo);
-  ASSERT_TRUE(sc.bendable);
+  ASSERT_TRUE(sc.bends);
   EXPECT_EQ(sc.n, bent_shading_normal(si.ng, si.ns, wo));
   EXPECT_NE(sc.n, si.ns);
   // Its BSDF is the one around the bent normal: the same value as a flat surface whose
@@ -113,19 +112,37 @@ TEST(SurfaceScattering, SeenFromAnotherViewIsTheBsdfThatViewBuilds) {
   }
 }
 
-TEST(SurfaceScattering, RoughGlassKeepsItsNormalAndDropsTheWedge) {
-  // A rough thin wall that transmits: no bending (its refraction would change), the wedge
-  // of ns dropped both ways.
-  ShadingInputs si = leaning_point(40.0f, 0.4f, 0.0f, 1.0f);
+TEST(SurfaceScattering, RoughGlassKeepsItsNormalAndFoldsTheWedge) {
+  // A rough thin wall that transmits: no bending, and the wedge of ns folded: nothing in it,
+  // its value added to its mirror image's, and no sample left in it.
+  const ShadingInputs si = leaning_point(40.0f, 0.4f, 0.0f, 1.0f);
   const glm::vec3 wo = view(-45.0f);
   const SurfaceScattering sc(si, wo);
-  EXPECT_FALSE(sc.bendable);
+  EXPECT_FALSE(sc.bends);
   EXPECT_EQ(sc.n, si.ns);
-  // Below ng but above ns (toward +x, low): in the wedge, dropped.
+  const Bsdf unfolded = surface_bsdf(si);
+  // Below ng but above ns (toward +x, low): in the wedge; its image above both.
   const glm::vec3 wedge = glm::normalize(glm::vec3(1.0f, 0.0f, -0.2f));
+  const glm::vec3 image = mirror_through_surface(si, wedge);
   ASSERT_FALSE(sides_agree(si, wedge));
+  ASSERT_TRUE(sides_agree(si, image));
   EXPECT_EQ(sc.evaluate(wedge).f, glm::vec3(0.0f));
-  EXPECT_GT(samples_outside_the_wedge(sc, si.ns, 20000), 1000);
+  BsdfEval both = unfolded.evaluate(wo, image);
+  both += unfolded.evaluate(wo, wedge);
+  ASSERT_GT(unfolded.evaluate(wo, wedge).f.x, 0.0f) << "the wedge direction must carry light to fold";
+  EXPECT_NEAR(sc.evaluate(image).f.x, both.f.x, 1e-6f * both.f.x);
+  EXPECT_NEAR(sc.evaluate(image).pdf, both.pdf, 1e-6f * both.pdf);
+  EXPECT_GT(samples_outside_the_wedge(sc, si.ns, 20000), 10000);
+}
+
+TEST(SurfaceScattering, SmoothPlasticFoldsBecauseItHasADeltaLobe) {
+  // A smooth dielectric (a delta reflection over the diffuse base) does not bend: a bent
+  // mirror would depend on the viewer.
+  const ShadingInputs si = leaning_point(40.0f, 0.0f, 0.0f, 0.0f);
+  const SurfaceScattering sc(si, view(-45.0f));
+  EXPECT_TRUE(sc.bsdf.has_delta());
+  EXPECT_FALSE(sc.bends);
+  EXPECT_EQ(sc.n, si.ns);
 }
 
 TEST(SurfaceScattering, SmoothMirrorFoldsItsReflectionThroughTheSurface) {
@@ -134,7 +151,7 @@ TEST(SurfaceScattering, SmoothMirrorFoldsItsReflectionThroughTheSurface) {
   const ShadingInputs si = leaning_point(40.0f, 0.0f, 1.0f, 0.0f);
   const glm::vec3 wo = view(-45.0f);
   const SurfaceScattering sc(si, wo);
-  EXPECT_FALSE(sc.bendable);
+  EXPECT_FALSE(sc.bends);
   const glm::vec3 reflected = 2.0f * glm::dot(si.ns, wo) * si.ns - wo;
   ASSERT_LT(reflected.z, 0.0f);
   const std::optional<BsdfSample> bs = sc.sample(0.5f, glm::vec2(0.5f));

@@ -18,7 +18,7 @@
 // the estimate k / (k - 1) too high for a uniform density (the expected value of
 // 1 / (pi r_k^2) is density / (k - 1) for a Poisson process). With fewer than k photons
 // within the maximum radius R, all of them over pi R^2 (then exact for a uniform density).
-// f is the BSDF value times |wi.ns| over |wi.ng|, the flux per unit of the true surface's
+// f is the BSDF value times |wi.n| (n its normal) over |wi.ng|, the flux per unit of the true surface's
 // area, as SppmIntegrator::gather has it. No cone filter: a box kernel.
 // Photons count only if they landed on a surface facing the same way (the dot product of
 // the geometric normals, each on its ray's side, at least kCausticNormalCos): the disc is

@@ -30,7 +30,7 @@
 //
 // Units. Light path i carries flux Phi (render/light_emission.h, photon_walk.h); joined at
 // x1 it adds to pixel p
-//   Phi f(wo = to the camera, wi = back along the light path) |wi.ns| / |wi.ng|
+//   Phi f(wo = to the camera, wi = back along the light path) |wi.n| / |wi.ng|
 //       * |cos(to the camera, ng)| / (A_p r^2 cos^3 theta)   (PinholeCamera::connect)
 // times the shadow ray's transmittance; the pixel's estimate is the sum over the N paths
 // traced, over N (RenderState::mean). For a box filter this is the pixel's mean radiance

@@ -128,9 +128,12 @@ void walk_photon(const Scene& scene, const Accelerator& accel, const LightEmissi
     // with the photon's way back as wi, and the flux through the true surface needs
     // |b.ng| / |a.ng|, a = wo here. K is evaluated rather than assumed symmetric: a bent
     // normal depends on the viewer (shading_inputs.h), and a rough refraction's BTDF differs
-    // from its transpose by eta^2 (bsdf_base.h, "importance form"). (b is drawn around the
-    // normal bent for wo, so where normals bend, the few b below that normal's plane whose
-    // own bent normal would still reflect toward wo are not drawn: a loss only there.)
+    // from its transpose by eta^2 (bsdf_base.h, "importance form"). Where normals bend (only
+    // SPPM's photons go on by non-delta lobes), b is drawn around the normal bent for wo and
+    // ends in that normal's wedge, while K can be positive there (the normal bent for b may
+    // still reflect toward wo): that light is lost. Measured on the normal-mapped still life
+    // (256 x 256, 256 iterations against the path tracer at 1,024 spp): image mean 0.9967 of
+    // the path tracer's, against 0.994 when both folded, so the loss is below SPPM's own bias.
     // Delta lobes are symmetric: their weight with the shading-normal correction (Veach's
     // eq. 5.17) is exact, but for the layers' share of a base lobe under a coat or a sheen
     // (Bsdf::Outgoing::base_scale), which the camera side takes at its own direction, b here.

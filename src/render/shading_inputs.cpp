@@ -194,7 +194,9 @@ glm::vec3 bent_shading_normal(const glm::vec3& ng, const glm::vec3& ns, const gl
   const glm::vec3 lifted = (std::sqrt(std::max(0.0f, 1.0f - height * height)) / along_length) * along + height * ng;
   const glm::vec3 half = wo + lifted;
   const float half_length = glm::length(half);
-  return half_length > 1e-6f ? half / half_length : ng;
+  if (!(half_length > 1e-6f)) return ng;
+  const glm::vec3 bent = half / half_length;
+  return glm::dot(bent, wo) > 0.0f ? bent : ng;
 }
 
 }  // namespace lancer

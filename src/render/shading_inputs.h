@@ -137,9 +137,11 @@ float surface_coverage(const Scene& scene, const Ray& ray, const Hit& hit);
 //  - A BSDF with no delta lobe and no transmission (rough opaque surfaces, most of a
 //    normal-mapped glTF file) does what Cycles (the reference renderer Lancer is compared
 //    with) does: it is evaluated around a bent normal (bent_shading_normal, after Cycles'
-//    ensure_valid_reflection: where the viewer's mirror image about ns falls below the
-//    surface, ns turns toward ng just enough for that image to clear it, so a glossy lobe
-//    keeps its highlight above the surface), and it loses what it still sends into the
+//    ensure_valid_reflection: where the viewer's mirror image about ns falls below a small
+//    height over the surface, the normal becomes the half vector of the view and that image
+//    lifted to the height, so a glossy lobe keeps its highlight above the surface; Cycles
+//    keeps the normal's azimuth instead of the image's, which renders the still life the same
+//    within 0.5 % per 32 x 32 block), and it loses what it still sends into the
 //    wedge: f is 0 there, and a sample drawn into it ends the path. Folding these too, as
 //    below, kept their energy but added light Cycles does not have: the normal-mapped still
 //    life (scenes/textured/still-life.gltf, 256 x 256 x 1,024 spp against Cycles at 4,096)
@@ -160,6 +162,9 @@ float surface_coverage(const Scene& scene, const Ray& ray, const Hit& hit);
 //    dropping 4 % below a 64 x 32 sphere's, folding the same. And a delta lobe must not bend:
 //    the bent normal depends on the viewer, so a mirror would no longer send light back the
 //    way it came, and the light tracer's paths through it would not be the path tracer's.
+//    (So the look of a leaning metal changes at the roughness where its lobe becomes delta,
+//    alpha = 1e-3: below, the folded mirror keeps all its light; above, the bent lobe loses
+//    what falls into the wedge.)
 inline bool sides_agree(const glm::vec3& ng, const glm::vec3& n, const glm::vec3& wi) {
   return (wi.x * ng.x + wi.y * ng.y + wi.z * ng.z > 0.0f) == (wi.x * n.x + wi.y * n.y + wi.z * n.z > 0.0f);
 }
@@ -201,7 +206,9 @@ T evaluate_folded(const ShadingInputs& si, const glm::vec3& wi, Eval eval) {
 // ns itself when wo's mirror image about it rises at least h = min(0.9 wo.ng, 0.01) above the
 // geometric tangent plane; else the half vector of wo and that image lifted to height h
 // (same azimuth about ng), whose mirror image of wo is exactly the lifted one. ng where the
-// image has no azimuth (it points straight into the surface).
+// image has no azimuth (it points straight into the surface), or where rounding would leave
+// the result not facing wo (views within about 1e-4 of the tangent plane, with ns barely
+// facing them; evaluate_shading keeps dot(ns, wo) >= 1e-3 for the camera side's wo).
 glm::vec3 bent_shading_normal(const glm::vec3& ng, const glm::vec3& ns, const glm::vec3& wo);
 
 }  // namespace lancer

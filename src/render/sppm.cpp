@@ -181,7 +181,8 @@ SppmIntegrator::Gathered SppmIntegrator::gather(const VisiblePoint& vp, const Ph
   grid.for_each_within(si.p, radius, [&](const Photon& ph) {
     if (ph.bounces > most_bounces) return;
     ++g.count;
-    // Flux per unit of the true surface's area: f |wi.ns| (what evaluate gives) / |wi.ng|.
+    // Flux per unit of the true surface's area: f |wi.n| (what evaluate gives, n the BSDF's
+    // normal) / |wi.ng|.
     const float cos_g = std::abs(glm::dot(ph.wi, si.ng));
     if (!(cos_g > 0.0f)) return;
     const glm::vec3 f = sc.evaluate(ph.wi).f;

@@ -15,7 +15,7 @@
 //  2. Photon pass: photons leave the lights by power and scatter through the same BSDFs, by
 //     their adjoint (render/photon_walk.h, shared with the caustic photon map); from their
 //     second surface on they are left on every surface with a diffuse lobe.
-//  3. Gather: each visible point sums power * f(wo, wi) |wi.ns| / |wi.ng| over the photons
+//  3. Gather: each visible point sums power * f(wo, wi) |wi.n| / |wi.ng| over the photons
 //     within its radius (photon_grid.h), then updates its statistics (Hachisuka & Jensen
 //     2009, eq. 7-8 with alpha = 2/3): N' = N + alpha M, r' = r sqrt(N' / (N + M)),
 //     tau' = (tau + beta Phi) r'^2 / r^2.

@@ -1,5 +1,7 @@
 // The BSDF of a shading point, as every integrator that scatters by the glTF material builds
-// and folds it (the path tracer, the photon mappers' camera and photon paths).
+// it, with the wedge between the shading and geometric tangent planes handled as
+// shading_inputs.h says (the path tracer, the light tracer, the photon mappers' camera and
+// photon paths).
 #pragma once
 
 #include <cmath>
@@ -7,6 +9,7 @@
 
 #include <glm/common.hpp>
 #include <glm/exponential.hpp>
+#include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 #include <glm/vec3.hpp>
 
@@ -17,21 +20,21 @@
 
 namespace lancer {
 
-// The layered glTF BSDF of `si` in `frame` (that of si.ns and si.tangent unless its normal is
-// bent: SurfaceScattering), seen from the side the ray came from.
-inline Bsdf surface_bsdf(const ShadingInputs& si, const ShadingFrame& frame) {
+// The layered glTF BSDF of `si` in `frame`, its coat around `clearcoat_normal` (si's own
+// unless the normals are bent: SurfaceScattering), seen from the side the ray came from.
+inline Bsdf surface_bsdf(const ShadingInputs& si, const ShadingFrame& frame, const glm::vec3& clearcoat_normal) {
   BsdfInputs inputs{si.base_color, si.metallic,       si.roughness,   si.ior,
                     si.specular,   si.specular_color, si.transmission, si.thin_walled};
   inputs.clearcoat = si.clearcoat;
   inputs.clearcoat_roughness = si.clearcoat_roughness;
-  inputs.clearcoat_normal = si.clearcoat_normal;
+  inputs.clearcoat_normal = clearcoat_normal;
   inputs.sheen_color = si.sheen_color;
   inputs.sheen_roughness = si.sheen_roughness;
   return Bsdf(inputs, frame, si.front_face);
 }
 // si.tangent is unit and orthogonal to si.ns already (evaluate_shading).
 inline Bsdf surface_bsdf(const ShadingInputs& si) {
-  return surface_bsdf(si, ShadingFrame::from_orthonormal(si.ns, si.tangent));
+  return surface_bsdf(si, ShadingFrame::from_orthonormal(si.ns, si.tangent), si.clearcoat_normal);
 }
 
 // A ray leaving the shading point along unit `dir`, its origin pushed off the triangle just
@@ -71,7 +74,11 @@ struct SurfaceScattering {
     if (bends_normal(s, bsdf.has_delta())) {
       bends = true;
       n = bent_shading_normal(s.ng, s.ns, wo);
-      if (n != s.ns) bsdf = surface_bsdf(s, ShadingFrame::from_normal_tangent(n, s.tangent));
+      // A rough coat's own normal bends too (as Cycles bends each closure's normal).
+      const bool coat_normal = s.clearcoat > 0.0f && glm::dot(s.clearcoat_normal, s.clearcoat_normal) > 0.0f;
+      const glm::vec3 coat = coat_normal ? bent_shading_normal(s.ng, s.clearcoat_normal, wo) : s.clearcoat_normal;
+      if (n != s.ns || coat != s.clearcoat_normal)
+        bsdf = surface_bsdf(s, ShadingFrame::from_normal_tangent(n, s.tangent), coat);
     }
     out = bsdf.outgoing(wo);
   }

@@ -125,7 +125,9 @@ glm::vec3 WhittedIntegrator::shade_surface(const ShadingInputs& si, const Ray& r
 glm::vec3 WhittedIntegrator::shade_base(const ShadingInputs& si, const Ray& ray, int depth, SobolSampler& sampler,
                                         std::uint64_t& rays) const {
   // KHR_materials_sheen: the sheen lobe over the base, which it dims by 1 - max(sheenColor) E.
-  // Mirrors are this model's delta lobes: without them the normal bends as the path tracer's.
+  // Mirrors are this model's delta lobes: without them the normal bends as the path tracer's
+  // does without delta lobes (Whitted's mirrors start at roughness 0.2, the path tracer's
+  // delta lobes below 0.032: between the two, Whitted folds where the path tracer bends).
   const bool bends = bends_normal(si, is_mirror(si) || has_mirror_coat(si));
   const ShadingFrame frame = ShadingFrame::from_normal(bends ? bent_shading_normal(si.ng, si.ns, -ray.dir) : si.ns);
   const DirectResponse response_template{

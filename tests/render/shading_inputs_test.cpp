@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include <glm/geometric.hpp>
@@ -344,7 +345,7 @@ glm::vec3 mirror_of(const glm::vec3& wo, const glm::vec3& n) { return 2.0f * glm
 
 TEST(BentShadingNormal, StaysWhereTheViewersMirrorImageClearsTheSurface) {
   // ns leaning 30 degrees toward +x, viewers on that side: the mirror image lies 60 - view
-  // degrees off ng, above the surface for every view up to 60 degrees.
+  // degrees off ng (toward -x past 60), above the surface for every view there.
   const ShadingInputs si = leaning(30.0f);
   for (float view : {0.0f, 20.0f, 45.0f, 59.0f}) {
     const float a = view * 3.14159265f / 180.0f;
@@ -385,6 +386,45 @@ TEST(BentShadingNormal, LiftsTheMirrorImageExactlyToItsHeightBound) {
     });
   }
   EXPECT_GT(bent, 100) << "the test must see bent normals";
+}
+
+TEST(BentShadingNormal, GrazingViewsLiftTheImageToNineTenthsOfTheirHeight) {
+  // Views 1e-2 to 1e-3 over the surface (h = 0.9 wo.ng < 0.01), nearly across a normal
+  // leaning 40 degrees, each at an azimuth where ns faces it by `facing` (at least
+  // evaluate_shading's 1e-3) and its image falls below h: the image rises to exactly h,
+  // to float rounding of a half vector about |wo + image| long.
+  const ShadingInputs si = leaning(40.0f);
+  int tested = 0;
+  const float view_facing[3][2] = {{1e-2f, 5e-3f}, {3e-3f, 2e-3f}, {1e-3f, 1.1e-3f}};
+  for (const auto& [height, facing] : view_facing) {
+    const float r = std::sqrt(1.0f - height * height);
+    // ns.wo = sin(40) r cos(phi) + cos(40) height = facing.
+    const float phi = std::acos((facing - si.ns.z * height) / (si.ns.x * r));
+    for (const float azimuth : {phi, -phi}) {
+      const glm::vec3 wo(r * std::cos(azimuth), r * std::sin(azimuth), height);
+      ASSERT_GE(glm::dot(wo, si.ns), 1e-3f);
+      const glm::vec3 n = bent_shading_normal(si.ng, si.ns, wo);
+      const float h = 0.9f * height;
+      ASSERT_LT(mirror_of(wo, si.ns).z, h) << height;
+      ASSERT_NE(n, si.ns) << height;
+      EXPECT_GT(glm::dot(n, wo), 0.0f);
+      const glm::vec3 after = mirror_of(wo, n);
+      EXPECT_NEAR(after.z, h, 4e-7f / glm::length(wo + after)) << height << " " << azimuth;
+      ++tested;
+    }
+  }
+  EXPECT_EQ(tested, 6);
+}
+
+TEST(BentShadingNormal, DegenerateInputsGiveTheGeometricNormal) {
+  const glm::vec3 ng(0, 0, 1);
+  // ns the half vector of wo and -ng: the image points straight into the surface, with no
+  // azimuth to lift it along.
+  const glm::vec3 wo(0.6f, 0.0f, 0.8f);
+  EXPECT_EQ(bent_shading_normal(ng, glm::normalize(wo - ng), wo), ng);
+  // Not a number anywhere.
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  EXPECT_EQ(bent_shading_normal(ng, glm::vec3(nan, 0, 0), glm::normalize(glm::vec3(1, 0, 1))), ng);
 }
 
 }  // namespace

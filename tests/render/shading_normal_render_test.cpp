@@ -9,7 +9,8 @@
 //  - a smooth glass sphere (a volume, ior 1.5) of 16 x 8 facets with interpolated normals
 //    in the same enclosure: a lossless dielectric in a uniform field is invisible, so every
 //    ring of its image matches a 64 x 32 sphere's and 1 (where the shading normal's
-//    reflection dips below the facet, a path that is dropped paints a dark band at the rim);
+//    reflection dips below the facet, a path that is dropped paints a dark band at the rim),
+//    and a rough glass sphere's rings match the fine one's too;
 //  - a rough white metal with a leaning normal map reflects exactly the directional albedo
 //    of its BSDF around the bent normal, less what that sends into the surface, and the
 //    path tracer's MIS weights stay consistent where the wedge is dropped;
@@ -322,7 +323,7 @@ TEST(LeaningShadingNormals, CoarseSmoothGlassSphereHasNoDarkRim) {
 TEST(LeaningShadingNormals, CoarseRoughGlassSphereHasNoDarkRim) {
   // The same for rough glass (roughness 0.3, GGX without multiple scattering, so the rim of
   // even the fine sphere loses light). Folding keeps the coarse sphere's outer rings near
-  // the fine one's: at 256 spp, ring 7 0.875 against 0.874 and ring 6 0.934 against 0.941
+  // the fine one's: measured at 256 spp, ring 7 0.875 against 0.874 and ring 6 0.934 against 0.941
   // (that 0.7 % is the facets' own: rough lobes around interpolated normals are not the
   // fine sphere's, and no wedge rule changes it); dropping the wedge, as a rough opaque
   // surface does, gave 0.838 and 0.924. Hence 0.01 beside the noise. The path tracer, in the

@@ -96,6 +96,41 @@ TEST(SurfaceScattering, RoughMetalBendsItsNormalForAViewWhoseMirrorImageFallsBel
   EXPECT_GT(compared, 1000);
   EXPECT_GT(dropped, 100) << "the test must see the wedge";
   EXPECT_GT(samples_outside_the_wedge(sc, sc.n, 20000), 10000);
+  // What MIS combines: a sample's density and weight are what evaluate gives its direction.
+  Uniform uniform;
+  for (int i = 0; i < 1000; ++i) {
+    const float u_split = uniform();
+    const glm::vec2 u(uniform(), uniform());
+    const std::optional<BsdfSample> bs = sc.sample(u_split, u);
+    if (!bs) continue;
+    const BsdfEval e = sc.evaluate(bs->wi);
+    EXPECT_NEAR(bs->pdf, e.pdf, 1e-4f * e.pdf) << i;
+    EXPECT_NEAR(bs->weight.x, e.f.x / e.pdf, 1e-4f * bs->weight.x) << i;
+  }
+}
+
+TEST(SurfaceScattering, ARoughCoatBendsItsOwnNormalToo) {
+  // A rough clearcoat whose normal leans with ns: its lobe is evaluated around its normal
+  // bent for the view, as the base's is (Cycles bends each closure's normal).
+  ShadingInputs si = leaning_point(40.0f, 0.4f, 1.0f, 0.0f);
+  si.clearcoat = 1.0f;
+  si.clearcoat_roughness = 0.2f;
+  si.clearcoat_normal = si.ns;
+  const glm::vec3 wo = view(-45.0f);
+  const SurfaceScattering sc(si, wo);
+  ASSERT_TRUE(sc.bends);
+  const glm::vec3 coat = bent_shading_normal(si.ng, si.clearcoat_normal, wo);
+  const Bsdf bent_coat = surface_bsdf(si, ShadingFrame::from_normal_tangent(sc.n, si.tangent), coat);
+  const Bsdf unbent_coat = surface_bsdf(si, ShadingFrame::from_normal_tangent(sc.n, si.tangent), si.clearcoat_normal);
+  int differ = 0;
+  for (float a : {-80.0f, -60.0f, -30.0f, 0.0f, 20.0f, 50.0f}) {
+    const glm::vec3 wi = view(a);
+    if (!sides_agree(si.ng, sc.n, wi)) continue;
+    const glm::vec3 expected = bent_coat.evaluate(wo, wi).f;
+    EXPECT_NEAR(sc.evaluate(wi).f.x, expected.x, 1e-6f + 1e-5f * expected.x) << a;
+    differ += std::abs(unbent_coat.evaluate(wo, wi).f.x - expected.x) > 1e-3f * (1.0f + expected.x) ? 1 : 0;
+  }
+  EXPECT_GT(differ, 0) << "the bent coat must change some value for the test to mean anything";
 }
 
 TEST(SurfaceScattering, SeenFromAnotherViewIsTheBsdfThatViewBuilds) {

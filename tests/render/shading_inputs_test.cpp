@@ -356,8 +356,9 @@ TEST(BentShadingNormal, StaysWhereTheViewersMirrorImageClearsTheSurface) {
 }
 
 TEST(BentShadingNormal, LiftsTheMirrorImageExactlyToItsHeightBound) {
-  // Views all around a normal leaning 20-80 degrees, and grazing ones: where the image about
-  // ns falls below h = min(0.9 wo.ng, 0.01), the bent normal's image rises exactly to h,
+  // Views all around a normal leaning 20-80 degrees (at least 1.8 degrees over the surface,
+  // so h = 0.01; grazing ones: the next test): where the image about ns falls below
+  // h = min(0.9 wo.ng, 0.01), the bent normal's image rises exactly to h,
   // keeps the image's azimuth about ng, and faces the viewer; elsewhere nothing moves.
   int bent = 0;
   for (float lean : {20.0f, 50.0f, 80.0f}) {

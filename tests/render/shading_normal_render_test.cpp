@@ -38,6 +38,7 @@
 #include "render_test_scenes.h"
 #include "scene/procedural.h"
 #include "scene/scene_builder.h"
+#include "simd/splitmix64.h"
 
 namespace lancer {
 namespace {
@@ -216,14 +217,10 @@ TEST(LeaningShadingNormals, NormalMappedRoughMetalReflectsItsBentAlbedo) {
   const Bsdf bsdf(inputs, ShadingFrame::from_normal(bent), si.front_face);
   double sum = 0.0, sum2 = 0.0, dropped = 0.0;
   constexpr int kSamples = 1 << 20;
-  std::uint64_t state = 7;
-  auto uniform = [&] {
-    state = state * 6364136223846793005ull + 1442695040888963407ull;
-    return static_cast<float>(state >> 40) * 0x1p-24f;
-  };
+  SplitMix64 rng(7);
   for (int i = 0; i < kSamples; ++i) {
-    const float u_split = uniform();
-    const glm::vec2 u(uniform(), uniform());
+    const float u_split = rng.uniform();
+    const glm::vec2 u(rng.uniform(), rng.uniform());
     const std::optional<BsdfSample> bs = bsdf.sample(wo, u_split, u);
     if (!bs) continue;
     if (!(glm::dot(bs->wi, si.ng) > 0.0f)) {

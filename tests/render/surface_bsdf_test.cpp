@@ -4,12 +4,13 @@
 #include "render/surface_bsdf.h"
 
 #include <cmath>
-#include <cstdint>
 #include <optional>
 
 #include <glm/geometric.hpp>
 #include <glm/vec2.hpp>
 #include <gtest/gtest.h>
+
+#include "simd/splitmix64.h"
 
 namespace lancer {
 namespace {
@@ -36,22 +37,15 @@ glm::vec3 view(float degrees) {
   return {std::sin(a), 0.0f, std::cos(a)};
 }
 
-struct Uniform {
-  std::uint64_t state = 11;
-  float operator()() {
-    state = state * 6364136223846793005ull + 1442695040888963407ull;
-    return static_cast<float>(state >> 40) * 0x1p-24f;
-  }
-};
 
 // Draws `count` samples and checks each against the wedge of normal `n`; returns how many
 // came back.
 int samples_outside_the_wedge(const SurfaceScattering& sc, const glm::vec3& n, int count) {
-  Uniform uniform;
+  SplitMix64 rng(11);
   int kept = 0;
   for (int i = 0; i < count; ++i) {
-    const float u_split = uniform();
-    const glm::vec2 u(uniform(), uniform());
+    const float u_split = rng.uniform();
+    const glm::vec2 u(rng.uniform(), rng.uniform());
     const std::optional<BsdfSample> bs = sc.sample(u_split, u);
     if (!bs) continue;
     ++kept;
@@ -97,10 +91,10 @@ TEST(SurfaceScattering, RoughMetalBendsItsNormalForAViewWhoseMirrorImageFallsBel
   EXPECT_GT(dropped, 100) << "the test must see the wedge";
   EXPECT_GT(samples_outside_the_wedge(sc, sc.n, 20000), 10000);
   // What MIS combines: a sample's density and weight are what evaluate gives its direction.
-  Uniform uniform;
+  SplitMix64 rng(12);
   for (int i = 0; i < 1000; ++i) {
-    const float u_split = uniform();
-    const glm::vec2 u(uniform(), uniform());
+    const float u_split = rng.uniform();
+    const glm::vec2 u(rng.uniform(), rng.uniform());
     const std::optional<BsdfSample> bs = sc.sample(u_split, u);
     if (!bs) continue;
     const BsdfEval e = sc.evaluate(bs->wi);

@@ -202,6 +202,15 @@ T evaluate_folded(const ShadingInputs& si, const glm::vec3& wi, Eval eval) {
   return value;
 }
 
+// The same quantity under the rule above: for a BSDF that bends (around n, bends_normal),
+// eval(wi) where ng and n agree on wi's side and T{} in the wedge; for one that folds,
+// evaluate_folded.
+template <typename T, typename Eval>
+T evaluate_across_wedge(const ShadingInputs& si, bool bends, const glm::vec3& n, const glm::vec3& wi, Eval eval) {
+  if (bends) return sides_agree(si.ng, n, wi) ? eval(wi) : T{};
+  return evaluate_folded<T>(si, wi, eval);
+}
+
 // The normal a BSDF that bends (bends_normal) uses seen from unit wo (on ng's side):
 // ns itself when wo's mirror image about it rises at least h = min(0.9 wo.ng, 0.01) above the
 // geometric tangent plane; else the half vector of wo and that image lifted to height h

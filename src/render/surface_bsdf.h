@@ -113,8 +113,7 @@ struct SurfaceScattering {
  private:
   BsdfEval evaluate(const Bsdf::Outgoing& from, const glm::vec3& wi) const {
     if (!leaning) return bsdf.evaluate(from, wi);
-    if (bends) return sides_agree(si.ng, n, wi) ? bsdf.evaluate(from, wi) : BsdfEval{};
-    return evaluate_folded<BsdfEval>(si, wi, [&](const glm::vec3& w) { return bsdf.evaluate(from, w); });
+    return evaluate_across_wedge<BsdfEval>(si, bends, n, wi, [&](const glm::vec3& w) { return bsdf.evaluate(from, w); });
   }
 };
 

@@ -61,8 +61,7 @@ struct WhittedIntegrator::DirectResponse {
     return f;
   }
   glm::vec3 operator()(const glm::vec3& wi) const {
-    if (!bends) return evaluate_folded<glm::vec3>(si, wi, [&](const glm::vec3& w) { return lobes(w); });
-    return sides_agree(si.ng, frame.n, wi) ? lobes(wi) : glm::vec3(0.0f);
+    return evaluate_across_wedge<glm::vec3>(si, bends, frame.n, wi, [&](const glm::vec3& w) { return lobes(w); });
   }
 };
 

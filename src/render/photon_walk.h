@@ -18,6 +18,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <numbers>
 #include <optional>
 #include <vector>
 
@@ -30,6 +31,7 @@
 #include "render/light_emission.h"
 #include "render/lights.h"
 #include "render/path_rules.h"
+#include "render/ray_sets.h"
 #include "render/shading_inputs.h"
 #include "render/sobol_sampler.h"
 #include "render/surface_bsdf.h"
@@ -63,6 +65,83 @@ constexpr std::uint32_t kBsdfDimensions = 1;  // and 2
 constexpr std::uint32_t kRouletteDimension = 3;  // also the coverage choice, rescaled
 constexpr std::uint32_t kBounceDimensions = 4;
 }  // namespace photon_walk
+
+// How a photon leaves a surface it scatters at: its new direction b, and the factor its
+// power takes on the way.
+struct PhotonScatter {
+  glm::vec3 wi{0.0f};
+  glm::vec3 factor{0.0f};
+  bool delta = false;
+  bool transmitted = false;
+};
+
+// Of the photons leaving a surface whose normal bends (SurfaceScattering::bends), the share
+// drawn by the cosine around ng instead of by the BSDF (scatter_photon).
+inline constexpr float kPhotonCosineShare = 0.125f;
+
+// The photon's way on from the surface (si, sc seen from wo, back where it came from), from
+// sample values u_split and u; nullopt when it is absorbed.
+//
+// Photons carry flux, so they scatter by the adjoint of the kernel the camera side gathers
+// with: K(wo, wi) = f |wi.n| as the camera sees the surface from the new direction b, with
+// the photon's way back as wi, and the flux through the true surface needs |b.ng| / |a.ng|,
+// a = wo here (Veach 1997, sec. 3.7.5 and 5.3). K is evaluated rather than assumed
+// symmetric: a bent normal depends on the viewer (shading_inputs.h), and a rough
+// refraction's BTDF differs from its transpose by eta^2 (bsdf_base.h, "importance form").
+// Where normals bend, the BSDF seen from wo draws no b in its own wedge, while K can be
+// positive there (the normal bent for b may still reflect toward wo). So there b is drawn
+// from a mixture that reaches every direction on wo's side: by the cosine around ng with
+// probability kPhotonCosineShare (u_split, which a bending BSDF does not read, decides),
+// else by the BSDF, and weighed by the mixture's density. Only SPPM's photons go on by
+// non-delta lobes, so only they take it. (Drawn by the BSDF alone, they lost 10-14 % of the
+// flux at a steeply leaning normal, photon_walk_test.cpp, and the normal-mapped still life's
+// SPPM image was 0.47 % darker, docs/performance.md.)
+// Delta lobes are symmetric: their weight with the shading-normal correction (Veach's
+// eq. 5.17) is exact, but for the layers' share of a base lobe under a coat or a sheen
+// (Bsdf::Outgoing::base_scale), which the camera side takes at its own direction, b here.
+inline std::optional<PhotonScatter> scatter_photon(const ShadingInputs& si, const SurfaceScattering& sc,
+                                                   const glm::vec3& wo, float u_split, glm::vec2 u) {
+  const float a_ng = std::abs(glm::dot(wo, si.ng));
+  if (!(a_ng > 0.0f)) return std::nullopt;
+  PhotonScatter out;
+  float pdf = 0.0f;
+  if (sc.bends) {
+    // Every b that K reaches lies on wo's side: a bending BSDF only reflects.
+    const glm::vec3 side = glm::dot(wo, si.ng) > 0.0f ? si.ng : -si.ng;
+    const float cosine = kPhotonCosineShare;
+    if (u_split < cosine) {
+      out.wi = cosine_hemisphere_direction(side, u.x, u.y);
+    } else {
+      const std::optional<BsdfSample> bs = sc.sample(0.0f, u);
+      if (!bs) return std::nullopt;
+      out.wi = bs->wi;
+    }
+    const float b_side = glm::dot(out.wi, side);
+    if (!(b_side > 0.0f)) return std::nullopt;
+    pdf = (1.0f - cosine) * sc.evaluate(out.wi).pdf + cosine * b_side * std::numbers::inv_pi_v<float>;
+  } else {
+    const std::optional<BsdfSample> bs = sc.sample(u_split, u);
+    if (!bs) return std::nullopt;
+    out.wi = bs->wi;
+    out.delta = bs->delta;
+    out.transmitted = bs->transmitted;
+    if (bs->delta) {
+      const glm::vec3& b = bs->wi;
+      const float b_ns = std::abs(glm::dot(b, si.ns));
+      if (!(b_ns > 0.0f)) return std::nullopt;
+      float layers = 1.0f;
+      if (sc.bsdf.layered() && !bs->layer)
+        layers = sc.out.base_scale > 0.0f ? sc.bsdf.outgoing(b).base_scale / sc.out.base_scale : 0.0f;
+      out.factor = bs->weight * (layers * std::abs(glm::dot(wo, si.ns)) * std::abs(glm::dot(b, si.ng)) / (a_ng * b_ns));
+      return out;
+    }
+    pdf = bs->pdf;
+  }
+  if (!(pdf > 0.0f)) return std::nullopt;
+  const glm::vec3 k = sc.evaluate_seen_from(out.wi, wo).f;
+  out.factor = k * (std::abs(glm::dot(out.wi, si.ng)) / (a_ng * pdf));
+  return out;
+}
 
 // Ends no photon early (walk_photon's default `ends`).
 struct EndsNoPhoton {
@@ -120,42 +199,16 @@ void walk_photon(const Scene& scene, const Accelerator& accel, const LightEmissi
     const SurfaceScattering sc(si, wo);
     const PhotonGoes goes = visit(PhotonVertex{si, sc, wo, beta, bounces, hit, emitted.start_density});
     if (goes == PhotonGoes::Stop) return;
-    const float u_split = sc.bsdf.reads_split() ? sampler.get1(dims + kSplitDimension) : 0.0f;
-    const std::optional<BsdfSample> bs = sc.sample(u_split, sampler.get2(dims + kBsdfDimensions));
-    if (!bs || (goes == PhotonGoes::DeltaOnly && !bs->delta)) return;
-    // Photons carry flux, so they scatter by the adjoint of the kernel the camera side gathers
-    // with: K(wo, wi) = f |wi.n| as the camera sees the surface from the new direction b,
-    // with the photon's way back as wi, and the flux through the true surface needs
-    // |b.ng| / |a.ng|, a = wo here. K is evaluated rather than assumed symmetric: a bent
-    // normal depends on the viewer (shading_inputs.h), and a rough refraction's BTDF differs
-    // from its transpose by eta^2 (bsdf_base.h, "importance form"). Where normals bend (only
-    // SPPM's photons go on by non-delta lobes), b is drawn around the normal bent for wo and
-    // ends in that normal's wedge, while K can be positive there (the normal bent for b may
-    // still reflect toward wo): that light is lost. Measured on the normal-mapped still life
-    // (256 x 256, 256 iterations against the path tracer at 1,024 spp): image mean 0.9967 of
-    // the path tracer's, against 0.994 when both folded, so the loss is below SPPM's own bias.
-    // Delta lobes are symmetric: their weight with the shading-normal correction (Veach's
-    // eq. 5.17) is exact, but for the layers' share of a base lobe under a coat or a sheen
-    // (Bsdf::Outgoing::base_scale), which the camera side takes at its own direction, b here.
-    const glm::vec3& b = bs->wi;
-    const float a_ng = std::abs(glm::dot(wo, si.ng));
-    if (!(a_ng > 0.0f)) return;
-    if (bs->delta) {
-      const float b_ns = std::abs(glm::dot(b, si.ns));
-      if (!(b_ns > 0.0f)) return;
-      float layers = 1.0f;
-      if (sc.bsdf.layered() && !bs->layer)
-        layers = sc.out.base_scale > 0.0f ? sc.bsdf.outgoing(b).base_scale / sc.out.base_scale : 0.0f;
-      beta *= bs->weight * (layers * std::abs(glm::dot(wo, si.ns)) * std::abs(glm::dot(b, si.ng)) / (a_ng * b_ns));
-    } else {
-      const glm::vec3 k = sc.evaluate_seen_from(b, wo).f;
-      beta *= k * (std::abs(glm::dot(b, si.ng)) / (a_ng * bs->pdf));
-    }
+    // A bending BSDF has no transmission, so the split value is free for scatter_photon's choice.
+    const float u_split = sc.bsdf.reads_split() || sc.bends ? sampler.get1(dims + kSplitDimension) : 0.0f;
+    const std::optional<PhotonScatter> next = scatter_photon(si, sc, wo, u_split, sampler.get2(dims + kBsdfDimensions));
+    if (!next || (goes == PhotonGoes::DeltaOnly && !next->delta)) return;
+    beta *= next->factor;
     if (is_black(beta) || !is_finite(beta)) return;
-    if (bs->transmitted && !si.thin_walled) in_volume = si.front_face && volume_absorption(si, sigma_a);
+    if (next->transmitted && !si.thin_walled) in_volume = si.front_face && volume_absorption(si, sigma_a);
     crossings = 0;
-    if (!path_rules::survives_roulette(++bounces, bs->delta, max_component(beta) / start_power, chance, beta)) return;
-    ray = leaving_ray(scene, si, b);
+    if (!path_rules::survives_roulette(++bounces, next->delta, max_component(beta) / start_power, chance, beta)) return;
+    ray = leaving_ray(scene, si, next->wi);
   }
 }
 

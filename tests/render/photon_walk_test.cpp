@@ -1,0 +1,127 @@
+// scatter_photon (render/photon_walk.h): a photon leaving a surface carries, on average, the
+// adjoint of what the camera side gathers there, including where the shading normal leans
+// and bends with the viewer.
+#include "render/photon_walk.h"
+
+#include <cmath>
+#include <optional>
+
+#include <glm/geometric.hpp>
+#include <glm/vec2.hpp>
+#include <gtest/gtest.h>
+
+#include "simd/splitmix64.h"
+
+namespace lancer {
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+
+// ng = +z, ns leaning `lean` degrees toward +x, a white material.
+ShadingInputs leaning_point(float lean_degrees, float roughness, float metallic) {
+  ShadingInputs si;
+  const float lean = lean_degrees * kPi / 180.0f;
+  si.ng = {0, 0, 1};
+  si.ns = {std::sin(lean), 0, std::cos(lean)};
+  si.tangent = {std::cos(lean), 0, -std::sin(lean)};
+  si.base_color = glm::vec3(1.0f);
+  si.roughness = roughness;
+  si.metallic = metallic;
+  return si;
+}
+
+// A unit direction `degrees` off ng toward +x.
+glm::vec3 view(float degrees) {
+  const float a = degrees * kPi / 180.0f;
+  return {std::sin(a), 0.0f, std::cos(a)};
+}
+
+// The flux a photon arriving along -wo sends on, per unit of its own: the integral over the
+// hemisphere of K(b) |b.ng| / |wo.ng|, K(b) the BSDF as the camera sees it from b
+// (SurfaceScattering::evaluate_seen_from), by the midpoint rule in (cos theta, phi), which
+// is uniform in solid angle.
+double adjoint_albedo(const ShadingInputs& si, const SurfaceScattering& sc, const glm::vec3& wo, int n) {
+  double sum = 0.0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) {
+      const float z = (float(i) + 0.5f) / float(n), phi = 2.0f * kPi * (float(j) + 0.5f) / float(n);
+      const float r = std::sqrt(1.0f - z * z);
+      const glm::vec3 b(r * std::cos(phi), r * std::sin(phi), z);
+      sum += double(sc.evaluate_seen_from(b, wo).f.x) * double(z);
+    }
+  return sum * 2.0 * double(kPi) / (double(n) * double(n)) / double(std::abs(glm::dot(wo, si.ng)));
+}
+
+struct Mean {
+  double value, standard_error;
+};
+
+// The mean of scatter_photon's factor (red) over `count` random sample values.
+Mean mean_factor(const ShadingInputs& si, const SurfaceScattering& sc, const glm::vec3& wo, int count) {
+  SplitMix64 rng(5);
+  double sum = 0.0, sum2 = 0.0;
+  for (int k = 0; k < count; ++k) {
+    const float u_split = rng.uniform();
+    const glm::vec2 u(rng.uniform(), rng.uniform());
+    const std::optional<PhotonScatter> s = scatter_photon(si, sc, wo, u_split, u);
+    const double f = s ? double(s->factor.x) : 0.0;
+    sum += f;
+    sum2 += f * f;
+  }
+  const double mean = sum / count;
+  return {mean, std::sqrt(std::max(0.0, sum2 / count - mean * mean) / count)};
+}
+
+// ns leans 40 degrees toward +x and the photon arrives from 45 degrees the other side: the
+// BSDF seen from wo bends its normal (SurfaceScattering::bends), and the normal bent for many
+// of the directions b it does not draw (its wedge) still reflects toward wo. Drawn by the BSDF
+// alone, photons lost 10 % (metal) and 12 % (dielectric) of this flux.
+TEST(ScatterPhoton, ABendingSurfaceSendsOnTheAdjointsWholeFlux) {
+  for (const float metallic : {1.0f, 0.0f}) {
+    SCOPED_TRACE(metallic);
+    const ShadingInputs si = leaning_point(40.0f, 0.5f, metallic);
+    const glm::vec3 wo = view(-45.0f);
+    const SurfaceScattering sc(si, wo);
+    ASSERT_TRUE(sc.bends);
+    const double expected = adjoint_albedo(si, sc, wo, 512);
+    ASSERT_GT(expected, 0.01);
+    const Mean m = mean_factor(si, sc, wo, 1 << 18);
+    // Five standard errors, plus 0.5 % for the midpoint rule across the wedges' edges.
+    EXPECT_NEAR(m.value, expected, 5.0 * m.standard_error + 0.005 * expected) << "expected " << expected;
+  }
+}
+
+// Where the normal does not lean, the photon is drawn by the BSDF alone and weighed by its
+// adjoint: the same mean.
+TEST(ScatterPhoton, AFlatSurfaceSendsOnTheAdjointsWholeFlux) {
+  const ShadingInputs si = leaning_point(0.0f, 0.5f, 0.0f);
+  const glm::vec3 wo = view(-45.0f);
+  const SurfaceScattering sc(si, wo);
+  ASSERT_FALSE(sc.bends);
+  const double expected = adjoint_albedo(si, sc, wo, 512);
+  const Mean m = mean_factor(si, sc, wo, 1 << 18);
+  EXPECT_NEAR(m.value, expected, 5.0 * m.standard_error + 0.005 * expected) << "expected " << expected;
+}
+
+// The cosine share reaches directions the BSDF seen from wo never draws (its wedge), and every
+// direction scatter_photon returns lies on wo's side.
+TEST(ScatterPhoton, ABendingSurfaceReachesItsOwnWedge) {
+  const ShadingInputs si = leaning_point(40.0f, 0.5f, 1.0f);
+  const glm::vec3 wo = view(-45.0f);
+  const SurfaceScattering sc(si, wo);
+  ASSERT_TRUE(sc.bends);
+  SplitMix64 rng(9);
+  int in_wedge = 0;
+  for (int k = 0; k < 4096; ++k) {
+    const std::optional<PhotonScatter> s =
+        scatter_photon(si, sc, wo, rng.uniform(), glm::vec2(rng.uniform(), rng.uniform()));
+    if (!s) continue;
+    EXPECT_GT(glm::dot(s->wi, si.ng), 0.0f);
+    EXPECT_FALSE(s->delta);
+    if (!sides_agree(si.ng, sc.n, s->wi)) ++in_wedge;
+  }
+  EXPECT_GT(in_wedge, 0);
+}
+
+}  // namespace
+}  // namespace lancer

@@ -1,8 +1,6 @@
 // Every render option either changes the image or is refused, for every integrator: no
 // option is silently ignored. And the options that choose how rays are traced (mode,
 // threads, accelerator, ISA) never change a bit of it.
-#include <unistd.h>
-
 #include <algorithm>
 #include <cstring>
 #include <filesystem>
@@ -15,6 +13,7 @@
 #include "app/cli.h"
 #include "render/image_io.h"
 #include "simd/isa.h"
+#include "temp_dir.h"
 #include "test_paths.h"
 
 namespace lancer {
@@ -26,12 +25,6 @@ const char* const kIntegrators[] = {"path", "sppm", "photon", "whitted", "normal
 
 class RenderOptions : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("lancer_render_options_" + std::to_string(::getpid()));
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   struct Run {
     int code = -1;
     std::string err;
@@ -58,7 +51,8 @@ class RenderOptions : public ::testing::Test {
     return r;
   }
 
-  fs::path dir_;
+  test::TempDir temp_{"lancer_render_options"};
+  const fs::path& dir_ = temp_.path();
 };
 
 bool same(const ImageRGB& a, const ImageRGB& b) {

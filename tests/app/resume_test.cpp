@@ -2,8 +2,6 @@
 // the same file, byte for byte, as the render done in one go, whatever the threads, trace
 // mode or accelerator of either; anything that would change the image is refused with a
 // message naming it, and so are files that cannot be resumed.
-#include <unistd.h>
-
 #include <algorithm>
 #include <filesystem>
 #include <fstream>
@@ -21,6 +19,7 @@
 #include "render/camera.h"
 #include "render/image_io.h"
 #include "scene/load_scene.h"
+#include "temp_dir.h"
 #include "test_paths.h"
 
 namespace lancer {
@@ -30,13 +29,6 @@ namespace fs = std::filesystem;
 
 class Resume : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() / ("lancer_resume_" + std::to_string(::getpid()) + "_" +
-                                        ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   struct Run {
     int code = -1;
     std::string out, err;
@@ -83,7 +75,8 @@ class Resume : public ::testing::Test {
     EXPECT_FALSE(fs::exists(dir_ / "resumed.exr")) << what;
   }
 
-  fs::path dir_;
+  test::TempDir temp_{"lancer_resume"};
+  const fs::path& dir_ = temp_.path();
 };
 
 TEST_F(Resume, ContinuesAShorterRenderToTheSameBytes) {

@@ -3,8 +3,6 @@
 #include "bench_suite.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -14,6 +12,7 @@
 
 #include <glm/geometric.hpp>
 
+#include "temp_dir.h"
 #include "test_paths.h"
 
 namespace lancer::bench {
@@ -30,14 +29,12 @@ std::vector<std::string> names(const std::vector<SuiteScene>& suite) {
 class BenchSuite : public ::testing::Test {
  protected:
   void SetUp() override {
-    models_ = fs::temp_directory_path() / ("lancer_bench_suite_" + std::to_string(::getpid()));
-    fs::create_directories(models_);
     std::ofstream(models_ / "tri.obj") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";
     std::ofstream(models_ / "notes.txt") << "not a mesh\n";
     std::ofstream(models_ / "balls-3.OBJ") << "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n";  // name taken by the SPD scene
   }
-  void TearDown() override { fs::remove_all(models_); }
-  fs::path models_;
+  test::TempDir temp_{"lancer_bench_suite"};
+  const fs::path& models_ = temp_.path();
 };
 
 TEST_F(BenchSuite, BuiltInsThenSpdThenModelsByFileName) {

@@ -4,8 +4,6 @@
 // refusal of unreadable or non-physical maps.
 #include "render/environment.h"
 
-#include <unistd.h>
-
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
@@ -23,6 +21,7 @@
 #include "render/color.h"
 #include "render/image_io.h"
 #include "simd/splitmix64.h"
+#include "temp_dir.h"
 
 namespace lancer {
 namespace {
@@ -47,17 +46,8 @@ ImageRGB spot_map() {
 
 class EnvironmentFiles : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    dir_ = fs::temp_directory_path() / ("lancer_env_" + std::to_string(::getpid()) + "_" + name);
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  fs::path dir_;
+  test::TempDir temp_{"lancer_env"};
+  const fs::path& dir_ = temp_.path();
 };
 
 glm::dvec2 pixel_centre_uv(int x, int y) { return {(x + 0.5) / kW, (y + 0.5) / kH}; }

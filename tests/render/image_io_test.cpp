@@ -27,6 +27,7 @@
 #include <stb_image_write.h>
 
 #include "render/color.h"
+#include "temp_dir.h"
 
 namespace lancer {
 namespace {
@@ -37,16 +38,10 @@ constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 class ImageIoTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const std::string name = ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    dir_ = fs::temp_directory_path() / ("lancer_image_io_" + std::to_string(::getpid()) + "_" + name);
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
+  // A test may leave the folder read-only; TempDir removes it afterwards.
   void TearDown() override {
     std::error_code ignored;
     fs::permissions(dir_, fs::perms::owner_all, fs::perm_options::add, ignored);
-    fs::remove_all(dir_, ignored);
   }
   std::vector<std::string> listing() const {
     std::vector<std::string> names;
@@ -54,7 +49,8 @@ class ImageIoTest : public ::testing::Test {
     std::sort(names.begin(), names.end());
     return names;
   }
-  fs::path dir_;
+  test::TempDir temp_{"lancer_image_io"};
+  const fs::path& dir_ = temp_.path();
 };
 
 std::string read_bytes(const fs::path& file) {

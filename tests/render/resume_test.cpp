@@ -3,8 +3,6 @@
 // distributed render leaves them), ends with the uninterrupted render's image bit for bit,
 // for any thread count; and that state survives its EXR file exactly
 // (render/checkpoint_file.h), while a plain, damaged or truncated file is refused.
-#include <unistd.h>
-
 #include <algorithm>
 #include <atomic>
 #include <cstdint>
@@ -24,6 +22,7 @@
 #include "render/renderer.h"
 #include "render/tile_scheduler.h"
 #include "scene/load_scene.h"
+#include "temp_dir.h"
 #include "test_paths.h"
 
 namespace lancer {
@@ -307,14 +306,6 @@ TEST(Resume, RefusesAStateItCouldNotHaveLeft) {
 
 class CheckpointFile : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("lancer_checkpoint_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
   static std::string bytes_of(const fs::path& f) {
     std::ifstream in(f, std::ios::binary);
     return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
@@ -323,7 +314,8 @@ class CheckpointFile : public ::testing::Test {
     std::ofstream(f, std::ios::binary | std::ios::trunc) << bytes;
   }
 
-  fs::path dir_;
+  test::TempDir temp_{"lancer_checkpoint"};
+  const fs::path& dir_ = temp_.path();
   const CheckpointFacts facts_ = {{"seed", "3"}, {"width", "24"}, {"scene", "0123456789abcdef"}};
 };
 

@@ -4,8 +4,6 @@
 #pragma once
 
 #include <gtest/gtest.h>
-#include <unistd.h>
-
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -21,6 +19,7 @@
 #include "scene/gltf_reader.h"
 #include "scene/scene_error.h"
 #include "scene/scene_warning.h"
+#include "temp_dir.h"
 
 namespace lancer::gltf_test {
 
@@ -206,19 +205,6 @@ class GltfBuilder {
 // A fresh temporary directory per test, removed afterwards.
 class GltfTempDir : public ::testing::Test {
  protected:
-  void SetUp() override {
-    const auto* info = ::testing::UnitTest::GetInstance()->current_test_info();
-    std::string name = std::string(info->test_suite_name()) + "_" + info->name();
-    for (char& c : name)
-      if (c == '/') c = '_';
-    dir_ = std::filesystem::temp_directory_path() / ("lancer_gltf_" + std::to_string(::getpid()) + "_" + name);
-    std::filesystem::remove_all(dir_);
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    std::filesystem::remove_all(dir_, ec);
-  }
   std::filesystem::path path(const std::string& name) const { return dir_ / name; }
 
   // read_gltf(file, scene) must throw SceneError whose message has the file name and `word`.
@@ -247,7 +233,8 @@ class GltfTempDir : public ::testing::Test {
     expect_error(path("bad.gltf"), word);
   }
 
-  std::filesystem::path dir_;
+  test::TempDir temp_{"lancer_gltf"};
+  const std::filesystem::path& dir_ = temp_.path();
 };
 
 // Makes animation 0 a single channel moving `path` ("translation", "rotation", "scale",

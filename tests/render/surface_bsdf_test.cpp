@@ -10,6 +10,7 @@
 #include <glm/vec2.hpp>
 #include <gtest/gtest.h>
 
+#include "leaning_normal_support.h"
 #include "simd/splitmix64.h"
 
 namespace lancer {
@@ -17,26 +18,8 @@ namespace {
 
 constexpr float kPi = 3.14159265358979f;
 
-// ng = +z, ns leaning `lean` degrees toward +x, a white material of `roughness`.
-ShadingInputs leaning_point(float lean_degrees, float roughness, float metallic, float transmission) {
-  ShadingInputs si;
-  const float lean = lean_degrees * kPi / 180.0f;
-  si.ng = {0, 0, 1};
-  si.ns = {std::sin(lean), 0, std::cos(lean)};
-  si.tangent = {std::cos(lean), 0, -std::sin(lean)};
-  si.base_color = glm::vec3(1.0f);
-  si.roughness = roughness;
-  si.metallic = metallic;
-  si.transmission = transmission;
-  return si;
-}
-
-// A view `degrees` off ng toward +x (the side ns leans to).
-glm::vec3 view(float degrees) {
-  const float a = degrees * kPi / 180.0f;
-  return {std::sin(a), 0.0f, std::cos(a)};
-}
-
+using test::leaning_point;
+using test::view;
 
 // Draws `count` samples and checks each against the wedge of normal `n`; returns how many
 // came back.

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <stdexcept>
 
+#include <glm/geometric.hpp>
+
 namespace lancer::bench {
 
 namespace {
@@ -12,19 +14,26 @@ void require_same_size(std::size_t a, std::size_t b) {
   if (a != b) throw std::invalid_argument("lancer-bench: comparing answer lists of different lengths");
 }
 
-bool same_t(float a, float b) { return std::fabs(a - b) <= kSameTRelative * std::fmax(std::fabs(a), std::fabs(b)); }
+// `absolute`: kSameTExtent of the scene in units of the ray's t.
+bool same_t(float a, float b, float absolute) {
+  return std::fabs(a - b) <= kSameTRelative * std::fmax(std::fabs(a), std::fabs(b)) + absolute;
+}
 
 }  // namespace
 
-Agreement compare_closest(std::span<const Hit> lancer, std::span<const Hit> embree) {
+Agreement compare_closest(std::span<const Ray> rays, std::span<const Hit> lancer, std::span<const Hit> embree,
+                          float scene_extent) {
   require_same_size(lancer.size(), embree.size());
+  require_same_size(rays.size(), lancer.size());
   Agreement a;
   a.compared = lancer.size();
   for (std::size_t i = 0; i < lancer.size(); ++i) {
     const Hit &l = lancer[i], &e = embree[i];
     if (!l.valid() && !e.valid()) continue;
     const bool both = l.valid() && e.valid();
-    if (both && same_t(l.t, e.t)) {
+    const float dir_length = std::sqrt(glm::dot(rays[i].dir, rays[i].dir));
+    const float absolute = dir_length > 0.0f ? kSameTExtent * scene_extent / dir_length : 0.0f;
+    if (both && same_t(l.t, e.t, absolute)) {
       if (l.prim != e.prim) ++a.ties;
       continue;
     }

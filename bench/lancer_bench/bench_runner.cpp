@@ -192,7 +192,7 @@ SetCheck check_set(RaySet set, Isa isa, std::span<const Ray> rays, const IsaAcce
     ref.check_seconds[Mode::Embree] = trace_embree(*accels.embree, ref.call, rays, arena, ref.embree);
     accels.embree->check_errors();
     const Agreement a = occlusion ? compare_occlusion(ref.lancer.occluded, ref.embree.occluded)
-                                  : compare_closest(ref.lancer.hits, ref.embree.hits);
+                                  : compare_closest(rays, ref.lancer.hits, ref.embree.hits, accels.kd->max_extent_up());
     check.embree_checked = true;
     check.embree_ties = a.ties;
     check.embree_disagreements = a.disagreements;

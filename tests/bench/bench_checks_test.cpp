@@ -14,6 +14,11 @@ namespace {
 
 Hit hit(std::uint32_t prim, float t) { return Hit{t, prim, 0.25f, 0.5f}; }
 
+// Rays of unit direction; with a scene extent of 0 only the relative tolerance counts.
+Agreement compare_closest(const std::vector<Hit>& lancer, const std::vector<Hit>& embree, float scene_extent = 0.0f) {
+  return bench::compare_closest(std::vector<Ray>(lancer.size()), lancer, embree, scene_extent);
+}
+
 TEST(BenchChecks, SameTriangleSameTIsAgreementOtherTriangleSameTIsATie) {
   const std::vector<Hit> lancer = {hit(3, 2.0f), hit(4, 2.0f), Hit{}, hit(5, 1.0f)};
   const std::vector<Hit> embree = {hit(3, 2.0f * (1.0f + 5e-5f)), hit(9, 2.0f), Hit{}, hit(5, 1.0f)};
@@ -32,6 +37,24 @@ TEST(BenchChecks, OtherTOrAMissIsADisagreement) {
   EXPECT_EQ(a.disagreements, 4u);  // same triangle at another t counts too
   EXPECT_EQ(a.first_disagreement, 0u);
   EXPECT_FALSE(a.acceptable());
+}
+
+// Near a ray's origin t differs by the coordinates' rounding: within kSameTExtent of the
+// scene's extent (along the ray, so a direction twice as long halves it in t) it is the
+// same t.
+TEST(BenchChecks, NearTheOriginTheSameTIsWithinAFractionOfTheScene) {
+  const float extent = 30.0f, within = kSameTExtent * extent;  // 3e-4
+  const std::vector<Hit> lancer = {hit(3, 0.004f), hit(3, 0.004f), hit(3, 0.004f)};
+  const std::vector<Hit> embree = {hit(3, 0.004f + 0.5f * within), hit(3, 0.004f + 2.0f * within),
+                                   hit(3, 0.004f + 0.75f * within)};
+  std::vector<Ray> rays(3);
+  rays[2].dir = {0.0f, 0.0f, 2.0f};  // half the tolerance in t: 0.75 of it is out
+  const Agreement a = bench::compare_closest(rays, lancer, embree, extent);
+  EXPECT_EQ(a.ties, 0u);
+  EXPECT_EQ(a.disagreements, 2u);
+  EXPECT_EQ(a.first_disagreement, 1u);
+  // Relative to t alone (extent 0), the first is a disagreement too.
+  EXPECT_EQ(bench::compare_closest(rays, lancer, embree, 0.0f).disagreements, 3u);
 }
 
 TEST(BenchChecks, AtMostOnePerThousandMayDisagree) {

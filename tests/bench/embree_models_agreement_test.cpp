@@ -67,7 +67,7 @@ TEST(EmbreeModelsAgreement, EveryModelEverySetAgreesUpToTies) {
       trace_embree(embree, occlusion ? EmbreeCall::Occluded1 : EmbreeCall::Intersect1, rays, arena, theirs);
       embree.check_errors();
       const Agreement a = occlusion ? compare_occlusion(lancer.occluded, theirs.occluded)
-                                    : compare_closest(lancer.hits, theirs.hits);
+                                    : compare_closest(rays, lancer.hits, theirs.hits, kd.max_extent_up());
       EXPECT_EQ(a.compared, rays.size());
       std::printf("[ info     ] %-16s %-7s %5zu rays, %zu ties, %zu disagreements\n", entry.name.c_str(),
                   std::string(ray_set_name(set)).c_str(), rays.size(), a.ties, a.disagreements);

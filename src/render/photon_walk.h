@@ -76,11 +76,18 @@ struct PhotonScatter {
 };
 
 // Of the photons leaving a surface whose normal bends (SurfaceScattering::bends), the share
-// drawn by the cosine around ng instead of by the BSDF (scatter_photon).
+// drawn by the cosine around ng instead of by the BSDF (scatter_photon), where the BSDF has a
+// diffuse lobe or a roughness of 0.5 or more. A glossy BSDF alone leaves little of its adjoint
+// in its wedge, and there the share falls with the roughness (0.1: a fortieth), so that few of
+// its photons take the cosine's low weights.
 inline constexpr float kPhotonCosineShare = 0.125f;
+inline float photon_cosine_share(const ShadingInputs& si, const SurfaceScattering& sc) {
+  return sc.bsdf.has_diffuse() ? kPhotonCosineShare : kPhotonCosineShare * std::min(1.0f, 2.0f * si.roughness);
+}
 
 // The photon's way on from the surface (si, sc seen from wo, back where it came from), from
-// sample values u_split and u; nullopt when it is absorbed.
+// sample values u_split and u; nullopt when it is absorbed, or when `delta_only` and it would
+// leave by a non-delta lobe (a caustic photon's end).
 //
 // Photons carry flux, so they scatter by the adjoint of the kernel the camera side gathers
 // with: K(wo, wi) = f |wi.n| as the camera sees the surface from the new direction b, with
@@ -91,7 +98,7 @@ inline constexpr float kPhotonCosineShare = 0.125f;
 // Where normals bend, the BSDF seen from wo draws no b in its own wedge, while K can be
 // positive there (the normal bent for b may still reflect toward wo). So there b is drawn
 // from a mixture that reaches every direction on wo's side: by the cosine around ng with
-// probability kPhotonCosineShare (u_split, which a bending BSDF does not read, decides),
+// probability photon_cosine_share (u_split, which a bending BSDF does not read, decides),
 // else by the BSDF, and weighed by the mixture's density. Only SPPM's photons go on by
 // non-delta lobes, so only they take it. (Drawn by the BSDF alone, they lost 10-14 % of the
 // flux at a steeply leaning normal, photon_walk_test.cpp, and the normal-mapped still life's
@@ -100,15 +107,19 @@ inline constexpr float kPhotonCosineShare = 0.125f;
 // eq. 5.17) is exact, but for the layers' share of a base lobe under a coat or a sheen
 // (Bsdf::Outgoing::base_scale), which the camera side takes at its own direction, b here.
 inline std::optional<PhotonScatter> scatter_photon(const ShadingInputs& si, const SurfaceScattering& sc,
-                                                   const glm::vec3& wo, float u_split, glm::vec2 u) {
+                                                   const glm::vec3& wo, float u_split, glm::vec2 u,
+                                                   bool delta_only = false) {
   const float a_ng = std::abs(glm::dot(wo, si.ng));
   if (!(a_ng > 0.0f)) return std::nullopt;
   PhotonScatter out;
   float pdf = 0.0f;
   if (sc.bends) {
-    // Every b that K reaches lies on wo's side: a bending BSDF only reflects.
+    if (delta_only) return std::nullopt;  // a bending BSDF has no delta lobe
+    // K is 0 below wo's side, where a camera would see the surface's back and a bending BSDF
+    // (it only reflects) sends nothing; evaluate_seen_from does not say so itself, hence the
+    // side's check below.
     const glm::vec3 side = glm::dot(wo, si.ng) > 0.0f ? si.ng : -si.ng;
-    const float cosine = kPhotonCosineShare;
+    const float cosine = photon_cosine_share(si, sc);
     if (u_split < cosine) {
       out.wi = cosine_hemisphere_direction(side, u.x, u.y);
     } else {
@@ -121,7 +132,7 @@ inline std::optional<PhotonScatter> scatter_photon(const ShadingInputs& si, cons
     pdf = (1.0f - cosine) * sc.evaluate(out.wi).pdf + cosine * b_side * std::numbers::inv_pi_v<float>;
   } else {
     const std::optional<BsdfSample> bs = sc.sample(u_split, u);
-    if (!bs) return std::nullopt;
+    if (!bs || (delta_only && !bs->delta)) return std::nullopt;
     out.wi = bs->wi;
     out.delta = bs->delta;
     out.transmitted = bs->transmitted;
@@ -201,8 +212,9 @@ void walk_photon(const Scene& scene, const Accelerator& accel, const LightEmissi
     if (goes == PhotonGoes::Stop) return;
     // A bending BSDF has no transmission, so the split value is free for scatter_photon's choice.
     const float u_split = sc.bsdf.reads_split() || sc.bends ? sampler.get1(dims + kSplitDimension) : 0.0f;
-    const std::optional<PhotonScatter> next = scatter_photon(si, sc, wo, u_split, sampler.get2(dims + kBsdfDimensions));
-    if (!next || (goes == PhotonGoes::DeltaOnly && !next->delta)) return;
+    const std::optional<PhotonScatter> next =
+        scatter_photon(si, sc, wo, u_split, sampler.get2(dims + kBsdfDimensions), goes == PhotonGoes::DeltaOnly);
+    if (!next) return;
     beta *= next->factor;
     if (is_black(beta) || !is_finite(beta)) return;
     if (next->transmitted && !si.thin_walled) in_volume = si.front_face && volume_absorption(si, sigma_a);

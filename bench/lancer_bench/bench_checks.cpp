@@ -32,7 +32,8 @@ Agreement compare_closest(std::span<const Ray> rays, std::span<const Hit> lancer
     if (!l.valid() && !e.valid()) continue;
     const bool both = l.valid() && e.valid();
     const float dir_length = std::sqrt(glm::dot(rays[i].dir, rays[i].dir));
-    const float absolute = dir_length > 0.0f ? kSameTExtent * scene_extent / dir_length : 0.0f;
+    const bool same_triangle = both && l.prim == e.prim && l.instance == e.instance;
+    const float absolute = same_triangle && dir_length > 0.0f ? kSameTExtent * scene_extent / dir_length : 0.0f;
     if (both && same_t(l.t, e.t, absolute)) {
       if (l.prim != e.prim) ++a.ties;
       continue;

@@ -13,12 +13,13 @@ namespace lancer::bench {
 // Two closest hits count as the same t when they differ by at most this, relative to t
 // (Embree's Möller–Trumbore and Lancer's watertight kernel round differently),
 inline constexpr float kSameTRelative = 1e-4f;
-// or by at most this fraction of the scene's largest extent, as a distance along the ray: a
-// hit a short way from the ray's origin (a bounce ray meeting the next face) differs by the
-// rounding of the coordinates, which is absolute, not relative to t. (rings-5's diffuse
-// rays: 41 such pairs, 1e-6 apart at t = 0.004 in a scene 30 wide, counted as disagreements
-// before.)
-inline constexpr float kSameTExtent = 1e-5f;
+// or, on the same triangle, by at most this fraction of the scene's largest extent, as a
+// distance along the ray: a hit a short way from the ray's origin (a bounce ray meeting the
+// next face) differs by the rounding of the coordinates, which is absolute, not relative to
+// t. (rings-5's diffuse rays: 41 such pairs, 1e-6 apart at t = 0.004 in a scene 30 wide,
+// counted as disagreements before.) Not for a tie: another triangle just past the one hit
+// is a different answer.
+inline constexpr float kSameTExtent = 1e-6f;
 
 // More disagreements than this fraction of the rays (0.1%) means the two tracers do not
 // trace the same scene: the row is not timed.

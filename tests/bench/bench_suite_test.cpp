@@ -3,6 +3,7 @@
 #include "bench_suite.h"
 
 #include <gtest/gtest.h>
+
 #include <algorithm>
 #include <cmath>
 #include <filesystem>

@@ -102,7 +102,7 @@ inline float photon_cosine_share(const ShadingInputs& si, const SurfaceScatterin
 // else by the BSDF, and weighed by the mixture's density. Only SPPM's photons go on by
 // non-delta lobes, so only they take it. (Drawn by the BSDF alone, they lost 10-14 % of the
 // flux at a steeply leaning normal, photon_walk_test.cpp, and the normal-mapped still life's
-// SPPM image was 0.47 % darker, docs/performance.md.)
+// SPPM image was about 0.4 % darker, docs/performance.md.)
 // Delta lobes are symmetric: their weight with the shading-normal correction (Veach's
 // eq. 5.17) is exact, but for the layers' share of a base lobe under a coat or a sheen
 // (Bsdf::Outgoing::base_scale), which the camera side takes at its own direction, b here.

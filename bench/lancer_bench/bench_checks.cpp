@@ -31,9 +31,11 @@ Agreement compare_closest(std::span<const Ray> rays, std::span<const Hit> lancer
     const Hit &l = lancer[i], &e = embree[i];
     if (!l.valid() && !e.valid()) continue;
     const bool both = l.valid() && e.valid();
-    const float dir_length = std::sqrt(glm::dot(rays[i].dir, rays[i].dir));
-    const bool same_triangle = both && l.prim == e.prim && l.instance == e.instance;
-    const float absolute = same_triangle && dir_length > 0.0f ? kSameTExtent * scene_extent / dir_length : 0.0f;
+    float absolute = 0.0f;  // only for the same triangle (kSameTExtent)
+    if (both && l.prim == e.prim && l.instance == e.instance) {
+      const float dir_length = std::sqrt(glm::dot(rays[i].dir, rays[i].dir));
+      if (dir_length > 0.0f) absolute = kSameTExtent * scene_extent / dir_length;
+    }
     if (both && same_t(l.t, e.t, absolute)) {
       if (l.prim != e.prim) ++a.ties;
       continue;

@@ -120,16 +120,19 @@ inline std::optional<PhotonScatter> scatter_photon(const ShadingInputs& si, cons
     // side's check below.
     const glm::vec3 side = glm::dot(wo, si.ng) > 0.0f ? si.ng : -si.ng;
     const float cosine = photon_cosine_share(si, sc);
+    float bsdf_pdf = 0.0f;  // the BSDF's density of out.wi (a sample's own, else evaluated)
     if (u_split < cosine) {
       out.wi = cosine_hemisphere_direction(side, u.x, u.y);
+      bsdf_pdf = sc.evaluate(out.wi).pdf;
     } else {
       const std::optional<BsdfSample> bs = sc.sample(0.0f, u);
       if (!bs) return std::nullopt;
       out.wi = bs->wi;
+      bsdf_pdf = bs->pdf;
     }
     const float b_side = glm::dot(out.wi, side);
     if (!(b_side > 0.0f)) return std::nullopt;
-    pdf = (1.0f - cosine) * sc.evaluate(out.wi).pdf + cosine * b_side * std::numbers::inv_pi_v<float>;
+    pdf = (1.0f - cosine) * bsdf_pdf + cosine * b_side * std::numbers::inv_pi_v<float>;
   } else {
     const std::optional<BsdfSample> bs = sc.sample(u_split, u);
     if (!bs || (delta_only && !bs->delta)) return std::nullopt;
